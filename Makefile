@@ -1,0 +1,46 @@
+# dcg-rig. The README's two commands: `make rig` and `make test`. Both install what is missing
+# (apt, skipped when present) and build incrementally first.
+SHELL := /bin/bash
+BUILD ?= build
+PYTHON := /usr/bin/python3
+BLENDER ?= blender
+JOBS ?= 2
+MESH ?= data/spot.obj
+MODEL := $(basename $(notdir $(MESH)))
+OUT ?= out
+CMAKE_FLAGS ?=
+export DCG_MESHES ?= $(abspath ../shared/meshes)
+
+.PHONY: all deps build rig test addon clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+# Configure once (Ninja re-runs CMake by itself when a CMakeLists.txt changes), then build.
+build: deps
+	@[ -f $(BUILD)/build.ninja ] || cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	  -DPython_EXECUTABLE=$(PYTHON) $(CMAKE_FLAGS)
+	@cmake --build $(BUILD) -j$(JOBS)
+
+# Rig MESH (default: the bundled Spot) headlessly: out/<model>.blend, .glb and .png.
+rig: build
+	@mkdir -p $(OUT)
+	DCG_PYTHONPATH=$(abspath $(BUILD))/python $(BLENDER) -b --factory-startup \
+	  --python addon/dcg_rig/cli.py -- $(MESH) -o $(OUT)/$(MODEL).blend \
+	  --glb $(OUT)/$(MODEL).glb --png $(OUT)/$(MODEL).png
+
+# Every suite (ctest, pytest, Blender); one closing line "N passed, N failed, N skipped".
+test: build
+	@bash scripts/run-tests.sh $(BUILD)
+
+# The installable add-on with the compiled module: out/dcg_rig.zip.
+addon: build
+	@mkdir -p $(OUT)
+	@rm -f $(OUT)/dcg_rig.zip
+	cd $(BUILD)/blender_scripts/addons && $(PYTHON) -m zipfile -c $(abspath $(OUT))/dcg_rig.zip dcg_rig
+	@echo "wrote $(OUT)/dcg_rig.zip"
+
+clean:
+	rm -rf $(BUILD) $(OUT)

@@ -1,0 +1,107 @@
+"""The engine's options as the add-on sees them (no `bpy`: plain pytest can test this).
+
+Every option comes from `dcg.OPTIONS`, so defaults, limits and descriptions stay the
+engine's. The add-on's own settings (weights, bone detail) live in `ADDON_DEFAULTS`.
+"""
+
+from dataclasses import dataclass
+
+# Choices of the string options whose OptionInfo carries no `choices` attribute.
+KNOWN_CHOICES = {
+    "repair": (("auto", "Auto", "Wrap open or non-manifold input in a closed proxy"),
+               ("none", "None", "Fail on open or non-manifold input, naming the problem")),
+}
+
+# The add-on's own settings, shared by the panel, the operators and the CLI.
+ADDON_DEFAULTS = {"weights": "BLENDER", "bone_detail": 0.5}
+
+WEIGHT_METHODS = (
+    ("DCG", "DCG", "The engine's own weights (falls back to Blender's until the engine has them)"),
+    ("BLENDER", "Automatic", "Blender's Automatic Weights (bone heat), checked and repaired"),
+    ("ENVELOPE", "Envelope", "By distance to the bones, scaled by the skeleton radii "
+                             "(never fails)"),
+    ("NONE", "None", "Armature modifier and empty vertex groups, for painting by hand"),
+)
+
+# Presets: option values that differ from the defaults (the rest are reset to defaults).
+PRESETS = {
+    "DEFAULT": {},
+    "COARSE": {"target_faces": 8000, "samples": 2000, "tau": 0.75, "min_gap": 0.01,
+               "min_radius": 0.004, "bone_detail": 0.0},
+    "DETAILED": {"target_faces": 40000, "samples": 8000, "tau": 0.92, "min_gap": 0.0025,
+                 "min_radius": 0.001, "bone_detail": 1.0},
+}
+PRESET_ITEMS = (
+    ("DEFAULT", "Default", "The engine's defaults"),
+    ("COARSE", "Coarse", "Fewer prongs and bones, faster"),
+    ("DETAILED", "Detailed", "More prongs and bones, slower"),
+)
+
+
+@dataclass(frozen=True)
+class OptionSpec:
+    """One engine option: `kind` is "int", "float" or "enum" (then `choices` is set)."""
+
+    name: str
+    kind: str
+    default: object
+    minimum: object
+    maximum: object
+    description: str
+    choices: tuple = ()
+
+
+def label(name):
+    """Return the UI label of an option name: "min_gap" -> "Min Gap"."""
+    return name.replace("_", " ").title()
+
+
+def option_specs(engine_options):
+    """Return a list of OptionSpec from `dcg.OPTIONS` (a dict name -> OptionInfo), in order."""
+    specs = []
+    for name, info in engine_options.items():
+        default = info.default
+        if isinstance(default, str):
+            choices = tuple(getattr(info, "choices", None) or ())
+            if choices:
+                choices = tuple((c, label(c), c) for c in choices)
+            else:
+                choices = KNOWN_CHOICES.get(name, ((default, label(default), default),))
+            specs.append(OptionSpec(name, "enum", default, None, None, info.description,
+                                    choices))
+        elif isinstance(default, bool):
+            raise TypeError(f"engine option {name} is a bool, which the add-on does not know")
+        elif isinstance(default, int):
+            specs.append(OptionSpec(name, "int", default, info.minimum, info.maximum,
+                                    info.description))
+        else:
+            specs.append(OptionSpec(name, "float", float(default), info.minimum, info.maximum,
+                                    info.description))
+    return specs
+
+
+def engine_kwargs(specs, values):
+    """Return the keyword arguments of `dcg.extract_skeleton` from `values` (name -> value).
+
+    Floats are rounded to 7 significant digits: Blender stores them as 32-bit floats, and
+    0.85 should reach the engine as 0.85, not 0.8500000238.
+    """
+    kwargs = {}
+    for spec in specs:
+        if spec.name not in values:
+            continue
+        value = values[spec.name]
+        if spec.kind == "int":
+            value = int(value)
+        elif spec.kind == "float":
+            value = float(f"{float(value):.7g}")
+        kwargs[spec.name] = value
+    return kwargs
+
+
+def preset_values(specs, preset):
+    """Return name -> value for every engine option and add-on setting under `preset`."""
+    values = {spec.name: spec.default for spec in specs}
+    values.update(ADDON_DEFAULTS)
+    values.update({k: v for k, v in PRESETS[preset].items() if k in values})
+    return values

@@ -1,0 +1,85 @@
+"""The add-on's settings: one PropertyGroup behind `Scene.dcg_rig`.
+
+The engine options mirror `dcg.OPTIONS` (defaults, limits, descriptions), so they follow
+the engine as it grows. When `dcg` cannot be imported there are no engine options; the
+panel then shows the reason and the operators report it.
+"""
+
+import bpy
+from bpy.props import EnumProperty, FloatProperty, IntProperty
+
+from . import _engine, options
+
+INT_MIN, INT_MAX = -(2 ** 31), 2 ** 31 - 1
+
+
+def _engine_specs():
+    """Return the OptionSpec list of the engine, empty when it cannot be imported."""
+    engine = _engine.load()
+    return options.option_specs(engine.OPTIONS) if engine is not None else []
+
+
+ENGINE_SPECS = _engine_specs()
+
+
+def _property(spec, flags):
+    """Return the bpy property for one engine OptionSpec."""
+    common = {"name": options.label(spec.name), "description": spec.description,
+              "default": spec.default, "options": flags}
+    if spec.kind == "enum":
+        return EnumProperty(items=spec.choices, **common)
+    limits = {}
+    if spec.minimum is not None:
+        limits["min"] = spec.minimum
+    if spec.maximum is not None:
+        limits["max"] = spec.maximum
+    if spec.kind == "int":
+        limits = {k: min(max(int(v), INT_MIN), INT_MAX) for k, v in limits.items()}
+        return IntProperty(**limits, **common)
+    return FloatProperty(precision=4, step=1, **{k: float(v) for k, v in limits.items()},
+                         **common)
+
+
+def engine_annotations(flags=frozenset()):
+    """Return name -> bpy property for every engine option."""
+    return {spec.name: _property(spec, set(flags)) for spec in ENGINE_SPECS}
+
+
+def addon_annotations(flags=frozenset(), with_weights=True):
+    """Return name -> bpy property for the add-on's own settings."""
+    result = {"bone_detail": FloatProperty(
+        name="Bone Detail", subtype="FACTOR", min=0.0, max=1.0,
+        default=options.ADDON_DEFAULTS["bone_detail"], options=set(flags),
+        description="How closely bone chains follow the link polylines: 0 gives one bone "
+                    "per link, 1 one bone per polyline segment")}
+    if with_weights:
+        result["weights"] = EnumProperty(
+            name="Weights", items=options.WEIGHT_METHODS,
+            default=options.ADDON_DEFAULTS["weights"], options=set(flags),
+            description="How the mesh's vertices are weighted to the bones")
+    return result
+
+
+def setting_names(with_weights=True):
+    """Return the names of every setting the rig operator reads."""
+    return [s.name for s in ENGINE_SPECS] + list(addon_annotations(
+        with_weights=with_weights))
+
+
+class DCGRigSettings(bpy.types.PropertyGroup):
+    """Settings of the DCG panel, the defaults of the DCG operators."""
+
+    __annotations__ = {**engine_annotations(), **addon_annotations()}
+
+
+def settings(context):
+    """Return the scene's DCGRigSettings."""
+    return context.scene.dcg_rig
+
+
+def apply_preset(context, preset):
+    """Set the scene's settings to `preset` ("DEFAULT", "COARSE", "DETAILED")."""
+    values = options.preset_values(ENGINE_SPECS, preset)
+    target = settings(context)
+    for name, value in values.items():
+        setattr(target, name, value)

@@ -1,0 +1,68 @@
+"""The rigging pipeline shared by the operators and the CLI.
+
+1. `object_mesh`: the evaluated world-space triangles of a mesh object (checked);
+2. the engine: `dcg.extract_skeleton` (blocking here, or in a `worker.SkeletonJob`);
+3. `apply_rig`: armature, weights, modifier; replaces earlier DCG rigs and the preview.
+
+Nothing in the scene changes before step 3, and step 3 checks what can fail before it
+touches the scene, so an error leaves the scene as it was.
+"""
+
+from dataclasses import dataclass, field
+
+from . import _engine, armature, bones, mesh_io, preview, weights
+
+
+class RigError(Exception):
+    """A failure the user can act on; the message is the reason shown in the report."""
+
+
+@dataclass
+class RigResult:
+    """What `apply_rig` made: the armature object, its bone count and warnings."""
+
+    armature: object
+    bone_count: int
+    warnings: list = field(default_factory=list)
+
+
+def object_mesh(context, obj):
+    """Return (V, F) of `obj` evaluated, triangulated, in world space; RigError if unusable."""
+    if obj is None or obj.type != "MESH":
+        raise RigError("select a mesh object to rig")
+    V, F = mesh_io.evaluated_world_mesh(context, obj)
+    if len(V) < 4 or len(F) < 4:
+        raise RigError(f"{obj.name} has {len(V)} vertices and {len(F)} triangles after its "
+                       "modifiers: the engine needs at least 4 of each")
+    return V, F
+
+
+def extract(context, obj, options, progress=None):
+    """Return the skeleton of `obj` computed by the engine with `options` (blocking)."""
+    engine = _engine.require()
+    V, F = object_mesh(context, obj)
+    return engine.extract_skeleton(V, F, progress=progress, **options)
+
+
+def apply_rig(context, mesh_obj, skeleton, weight_method="BLENDER", bone_detail=0.5):
+    """Rig `mesh_obj` from `skeleton` (world coordinates); return a RigResult.
+
+    Earlier DCG rigs of the mesh and the preview are removed first. If something fails
+    after that, the new armature is removed again before the exception propagates.
+    """
+    plan = bones.plan_bones(skeleton, bone_detail)
+    if not plan:
+        raise RigError(f"the skeleton of {mesh_obj.name} has no bones "
+                       f"({len(skeleton.positions)} nodes, {len(skeleton.links)} links)")
+    preview.clear_preview()
+    armature.clear_rigs(mesh_obj)
+    arm_obj = None
+    try:
+        arm_obj = armature.build_armature(context, mesh_obj, plan)
+        warnings = weights.apply_weights(context, mesh_obj, arm_obj, plan, weight_method)
+    except Exception:
+        if arm_obj is not None:
+            armature.detach(mesh_obj, arm_obj)
+            armature.remove_armature(arm_obj)
+        raise
+    return RigResult(arm_obj, len(plan), warnings)

@@ -1,0 +1,142 @@
+"""Bind a mesh to its DCG armature: vertex groups, weights, Armature modifier, parenting.
+
+Methods (the `weights` setting):
+
+- ``DCG``: the engine's own weights. The engine has none yet (no `dcg.skin_weights`), so
+  this falls back to ``BLENDER`` with a warning.
+- ``BLENDER``: Automatic Weights (bone heat). It fails silently (see ENVIRONMENT.md), so
+  every vertex's weight sum is checked; on failure the mesh and armature data are scaled
+  by 100 and bone heat runs again; vertices still unweighted get envelope weights, with a
+  warning.
+- ``ENVELOPE``: `skinning.envelope_weights` from the bones and the skeleton radii.
+- ``NONE``: the modifier and one empty vertex group per bone, for painting by hand.
+
+Every method but ``NONE`` ends with at most 4 influences per vertex, summing to 1.
+"""
+
+import bpy
+import numpy as np
+from mathutils import Matrix
+
+from . import armature, mesh_io, skinning
+
+RETRY_SCALE = 100.0
+
+
+def apply_weights(context, mesh_obj, arm_obj, plan, method):
+    """Bind `mesh_obj` to `arm_obj` with `method`; return a list of warnings for the user."""
+    warnings = []
+    if method == "DCG":
+        warnings.append("the engine has no weights of its own yet: used Blender's "
+                        "Automatic Weights")
+        method = "BLENDER"
+    names = [spec.name for spec in plan]
+    if method == "BLENDER":
+        warnings += _bone_heat_checked(context, mesh_obj, arm_obj, plan)
+    else:
+        _empty_groups(mesh_obj, names)
+        if method == "ENVELOPE":
+            _write(mesh_obj, names, *_envelope(mesh_obj, plan, None))
+    armature.bind(mesh_obj, arm_obj)
+    return warnings
+
+
+def _empty_groups(mesh_obj, names):
+    """Give `mesh_obj` an empty vertex group per bone name (replacing same-named groups)."""
+    for name in names:
+        group = mesh_obj.vertex_groups.get(name)
+        if group is not None:
+            mesh_obj.vertex_groups.remove(group)
+        mesh_obj.vertex_groups.new(name=name)
+
+
+def _envelope(mesh_obj, plan, vertices):
+    """Return sparse envelope weights (rows, cols, values) of the mesh's vertices (or of
+    the subset `vertices`, an index array) to the bones of `plan`."""
+    points = mesh_io.world_vertices(mesh_obj)
+    index = np.arange(len(points)) if vertices is None else np.asarray(vertices)
+    rows, cols, values = skinning.envelope_weights(
+        points[index], np.array([s.head for s in plan]), np.array([s.tail for s in plan]),
+        [s.head_radius for s in plan], [s.tail_radius for s in plan])
+    return index[rows], cols, values
+
+
+def _read(mesh_obj, names):
+    """Return the sparse weights (rows, cols, values) of the vertex groups named `names`."""
+    column = {mesh_obj.vertex_groups[n].index: i for i, n in enumerate(names)
+              if n in mesh_obj.vertex_groups}
+    rows, cols, values = [], [], []
+    for vertex in mesh_obj.data.vertices:
+        for element in vertex.groups:
+            col = column.get(element.group)
+            if col is not None and element.weight > 0:
+                rows.append(vertex.index)
+                cols.append(col)
+                values.append(element.weight)
+    return (np.array(rows, dtype=np.int64), np.array(cols, dtype=np.int64),
+            np.array(values, dtype=float))
+
+
+def _write(mesh_obj, names, rows, cols, values):
+    """Replace the contents of the vertex groups `names` by the sparse weights."""
+    _empty_groups(mesh_obj, names)
+    groups = [mesh_obj.vertex_groups[n] for n in names]
+    for row, col, value in zip(rows.tolist(), cols.tolist(), values.tolist()):
+        groups[col].add([row], value, "REPLACE")
+
+
+def _bone_heat_checked(context, mesh_obj, arm_obj, plan):
+    """Automatic Weights, checked, retried at scale 100, completed by envelope weights."""
+    names = [spec.name for spec in plan]
+    count = len(mesh_obj.data.vertices)
+    warnings = []
+    _bone_heat(context, mesh_obj, arm_obj)
+    weights = _read(mesh_obj, names)
+    if (skinning.weight_sums(weights[0], weights[2], count) <= 0).any():
+        armature.detach(mesh_obj, arm_obj)
+        _bone_heat_scaled(context, mesh_obj, arm_obj)
+        weights = _read(mesh_obj, names)
+    rows, cols, values = skinning.normalize_and_prune(*weights)
+    missing = np.flatnonzero(skinning.weight_sums(rows, values, count) <= 0)
+    if len(missing):
+        warnings.append(f"Automatic Weights left {len(missing)} of {count} vertices "
+                        "unweighted: gave them envelope weights")
+        extra = _envelope(mesh_obj, plan, missing)
+        rows, cols, values = (np.concatenate([a, b]) for a, b in zip((rows, cols, values),
+                                                                      extra))
+    _write(mesh_obj, names, rows, cols, values)
+    return warnings
+
+
+def _bone_heat(context, mesh_obj, arm_obj):
+    """Run Blender's parent_set(ARMATURE_AUTO), then restore the selection and active object."""
+    view_layer = context.view_layer
+    selected = [o for o in view_layer.objects if o.select_get()]
+    active = view_layer.objects.active
+    try:
+        for obj in selected:
+            obj.select_set(False)
+        mesh_obj.select_set(True)
+        arm_obj.select_set(True)
+        view_layer.objects.active = arm_obj
+        bpy.ops.object.parent_set(type="ARMATURE_AUTO")
+    finally:
+        arm_obj.select_set(False)
+        mesh_obj.select_set(False)
+        for obj in selected:
+            obj.select_set(True)
+        view_layer.objects.active = active
+
+
+def _bone_heat_scaled(context, mesh_obj, arm_obj):
+    """Bone heat with mesh and armature data scaled by RETRY_SCALE (object scale would not
+    help: the parent inverse keeps the factor); the mesh coordinates are restored exactly."""
+    saved = mesh_io.local_vertices(mesh_obj.data)
+    scale = Matrix.Scale(RETRY_SCALE, 4)
+    mesh_obj.data.transform(scale)
+    arm_obj.data.transform(scale)
+    try:
+        _bone_heat(context, mesh_obj, arm_obj)
+    finally:
+        mesh_io.set_local_vertices(mesh_obj.data, saved)
+        arm_obj.data.transform(scale.inverted())

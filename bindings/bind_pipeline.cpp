@@ -1,0 +1,180 @@
+#include "common.h"
+
+#include "dcg/errors.h"
+#include "dcg/pipeline.h"
+#include "dcg/prepare.h"
+
+namespace dcg_py {
+namespace {
+
+dcg::Options options_from_dict(const py::dict& values) {
+  dcg::Options options;
+  for (const auto& item : values) {
+    const std::string name = py::str(item.first);
+    if (name == "repair") {
+      options.repair = dcg::parse_repair(py::str(item.second));
+    } else {
+      double value = 0;
+      try {
+        value = item.second.cast<double>();
+      } catch (const py::cast_error&) {
+        throw dcg::InputError("option " + name + " must be a number, got " +
+                              std::string(py::str(py::repr(item.second))));
+      }
+      dcg::set_numeric_option(options, name, value);
+    }
+  }
+  return options;
+}
+
+py::dict options_to_dict(const dcg::Options& options) {
+  py::dict out;
+  out["repair"] = dcg::repair_name(options.repair);
+  for (const auto& spec : dcg::numeric_option_specs()) {
+    const double value = dcg::get_numeric_option(options, spec.name);
+    if (spec.integer) {
+      out[spec.name.c_str()] = static_cast<long long>(value);
+    } else {
+      out[spec.name.c_str()] = value;
+    }
+  }
+  return out;
+}
+
+py::list option_specs() {
+  py::list out;
+  for (const auto& spec : dcg::numeric_option_specs()) {
+    py::dict d;
+    d["name"] = spec.name;
+    d["description"] = spec.description;
+    d["minimum"] = spec.minimum;
+    d["maximum"] = spec.maximum;
+    d["integer"] = spec.integer;
+    d["unit"] = spec.unit;
+    out.append(d);
+  }
+  return out;
+}
+
+py::dict balls_dict(const dcg::Balls& balls) {
+  py::dict d;
+  d["centers"] = balls.centers;
+  d["radii"] = balls.radii;
+  return d;
+}
+
+py::dict prepared_dict(const dcg::PreparedMesh& pm) {
+  py::dict d;
+  d["vertices"] = pm.working.V;
+  d["faces"] = to_faces64(pm.working.F);
+  d["scale"] = pm.scale;
+  d["offset"] = Eigen::Vector3d(pm.offset.transpose());
+  d["repaired"] = pm.repaired;
+  d["genus"] = pm.genus;
+  d["map_face"] = Eigen::VectorXi(pm.map_face).cast<std::int64_t>().eval();
+  d["map_barycentric"] = pm.map_barycentric;
+  py::dict report;
+  report["input_vertices"] = pm.report.input_vertices;
+  report["input_faces"] = pm.report.input_faces;
+  report["welded_vertices"] = pm.report.welded_vertices;
+  report["dropped_faces"] = pm.report.dropped_faces;
+  report["border_edges"] = pm.report.border_edges;
+  report["non_manifold_edges"] = pm.report.non_manifold_edges;
+  report["components"] = pm.report.components;
+  report["closed_manifold"] = pm.report.closed_manifold();
+  d["report"] = report;
+  return d;
+}
+
+py::dict skeleton_dict(const dcg::Skeleton& s) {
+  py::dict d;
+  d["positions"] = s.positions;
+  py::list kinds;
+  for (auto kind : s.kinds) kinds.append(dcg::node_kind_name(kind));
+  d["kinds"] = kinds;
+  d["radii"] = s.radii;
+  d["significance"] = s.significance;
+  d["links"] = dcg::Edges(s.links).cast<std::int64_t>().eval();
+  py::list polylines;
+  for (const auto& p : s.polylines) polylines.append(p);
+  d["polylines"] = polylines;
+  d["root"] = s.root;
+  d["face_labels"] = Eigen::VectorXi(s.face_labels).cast<std::int64_t>().eval();
+  py::list timings;
+  for (const auto& t : s.timings) timings.append(py::make_tuple(t.first, t.second));
+  d["timings"] = timings;
+  d["input_vertices"] = s.input_vertices;
+  d["input_faces"] = s.input_faces;
+  d["genus"] = s.genus;
+  d["repaired"] = s.repaired;
+  d["method"] = s.method;
+  return d;
+}
+
+/// The stepwise extractor as seen from Python: each method runs its stage (and those before it)
+/// with the GIL released and returns plain dicts of numpy arrays.
+class PyExtractor {
+ public:
+  PyExtractor(const dcg::Vertices& V, const Faces64& F, const py::dict& options,
+              py::object progress)
+      : bridge_(std::move(progress)),
+        extractor_(V, to_faces(F, V.rows()), options_from_dict(options), bridge_.callback()) {}
+
+  template <typename Stage>
+  auto run(Stage stage) -> decltype(stage(std::declval<dcg::Extractor&>())) {
+    try {
+      py::gil_scoped_release release;
+      return stage(extractor_);
+    } catch (const dcg::Cancelled&) {
+      bridge_.rethrow_if_failed();
+      throw;
+    }
+  }
+
+  py::dict prepare() {
+    return prepared_dict(run([](dcg::Extractor& e) -> const dcg::PreparedMesh& { return e.prepare(); }));
+  }
+  py::dict voronoi_balls() {
+    return balls_dict(run([](dcg::Extractor& e) -> const dcg::Balls& { return e.voronoi_balls(); }));
+  }
+  py::dict domain_balls() {
+    const dcg::DomainBalls& db =
+        run([](dcg::Extractor& e) -> const dcg::DomainBalls& { return e.domain_balls(); });
+    py::dict d = balls_dict(db.balls);
+    d["source"] = db.source;
+    return d;
+  }
+  py::dict skeleton() {
+    return skeleton_dict(run([](dcg::Extractor& e) -> const dcg::Skeleton& { return e.skeleton(); }));
+  }
+  py::dict options() const { return options_to_dict(extractor_.options()); }
+
+ private:
+  ProgressBridge bridge_;
+  dcg::Extractor extractor_;
+};
+
+}  // namespace
+
+void bind_pipeline(py::module_& m) {
+  m.def("option_specs", &option_specs, "The numeric options: name, description, range, unit.");
+  m.def("default_options", [] { return options_to_dict(dcg::Options{}); },
+        "Every option with its default value.");
+  m.def("normalize_options", [](const py::dict& values) { return options_to_dict(options_from_dict(values)); },
+        "Checks options (ValueError when out of range) and returns the full set with defaults.");
+  m.def(
+      "validate_mesh",
+      [](const dcg::Vertices& V, const Faces64& F) { dcg::validate_mesh(V, to_faces(F, V.rows())); },
+      py::arg("V"), py::arg("F"));
+
+  py::class_<PyExtractor>(m, "Extractor")
+      .def(py::init<const dcg::Vertices&, const Faces64&, const py::dict&, py::object>(),
+           py::arg("V"), py::arg("F"), py::arg("options"), py::arg("progress") = py::none())
+      .def("prepare", &PyExtractor::prepare)
+      .def("voronoi_balls", &PyExtractor::voronoi_balls)
+      .def("domain_balls", &PyExtractor::domain_balls)
+      .def("skeleton", &PyExtractor::skeleton)
+      .def_property_readonly("options", &PyExtractor::options);
+}
+
+}  // namespace dcg_py

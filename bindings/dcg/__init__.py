@@ -1,0 +1,137 @@
+"""dcg: the Domain Connected Graph skeleton of a closed 3D mesh, for rigging.
+
+    import dcg
+    V, F = dcg.load_mesh("hand.obj")            # float64 n x 3, int64 m x 3
+    skeleton = dcg.extract_skeleton(V, F, tau=0.85)
+    print(skeleton.kinds, skeleton.timings)
+    open("hand.json", "w").write(skeleton.to_json())
+
+Stage by stage (each result kept, as in the paper's Fig. 4):
+
+    ex = dcg.Extractor(V, F)
+    working = ex.prepare()        # stage 0: closed, uniform, normalized working mesh
+    balls = ex.domain_balls()     # stages 1-2
+    skeleton = ex.skeleton()
+
+Errors: ValueError for bad data or options, OSError for unreadable files, dcg.Cancelled when a
+progress callback returns False. The heavy work runs with the GIL released.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Dict, Optional, Tuple
+
+import numpy as np
+
+from . import _core
+from .options import OPTIONS, OptionInfo, normalize_options
+from .skeleton import FORMAT, Skeleton
+
+__all__ = [
+    "Cancelled", "Extractor", "OPTIONS", "OptionInfo", "Skeleton", "FORMAT", "Balls",
+    "PreparedMesh", "extract_skeleton", "load_mesh", "as_mesh",
+]
+__version__ = "0.1.0"
+
+#: Raised when a progress callback returns False.
+Cancelled = _core.Cancelled
+
+#: progress(stage, fraction) -> bool | None; return False to cancel.
+ProgressCallback = Callable[[str, float], Optional[bool]]
+
+
+def load_mesh(path) -> Tuple[np.ndarray, np.ndarray]:
+    """Reads an OBJ, OFF, PLY or STL file.
+
+    Returns V (#V x 3 float64) and F (#F x 3 int64; polygons fan-triangulated). Raises OSError
+    when the file is missing or unreadable, ValueError when it holds no valid triangles.
+    """
+    V, F = _core.load_mesh(str(path))
+    return np.asarray(V, dtype=np.float64), np.asarray(F, dtype=np.int64)
+
+
+def as_mesh(V, F) -> Tuple[np.ndarray, np.ndarray]:
+    """Checks shapes and dtypes and returns contiguous float64 / int64 copies (ValueError)."""
+    try:
+        V = np.ascontiguousarray(V, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"V must be an n x 3 array of numbers: {error}") from None
+    if V.ndim != 2 or V.shape[1] != 3:
+        raise ValueError(f"V must be an n x 3 array of vertex positions, got shape {V.shape}")
+    F = np.asarray(F)
+    if F.ndim != 2 or F.shape[1] != 3:
+        raise ValueError(f"F must be an m x 3 array of triangle indices, got shape {F.shape}")
+    if F.size and not np.issubdtype(F.dtype, np.integer):
+        if not np.issubdtype(F.dtype, np.floating) or not np.all(np.isfinite(F)) or np.any(
+                F != np.round(F)):
+            raise ValueError(f"F must hold integer vertex indices, got dtype {F.dtype}")
+    return V, np.ascontiguousarray(F, dtype=np.int64)
+
+
+@dataclass
+class PreparedMesh:
+    """Stage 0. vertices/faces: the working mesh in normalized units (input = v*scale+offset)."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    scale: float
+    offset: np.ndarray
+    genus: int
+    repaired: bool
+    report: Dict[str, Any]
+    map_face: np.ndarray
+    map_barycentric: np.ndarray
+
+
+@dataclass
+class Balls:
+    """Balls inside the shape, in normalized units. source: index among the stage-1 balls."""
+
+    centers: np.ndarray
+    radii: np.ndarray
+    source: Optional[np.ndarray] = None
+
+
+class Extractor:
+    """Runs the pipeline one stage at a time and keeps every result (paper Fig. 4).
+
+    Each method runs the stages it needs first; calling it again returns the kept result.
+    """
+
+    def __init__(self, V, F, progress: Optional[ProgressCallback] = None, **options):
+        V, F = as_mesh(V, F)
+        self.options = normalize_options(options)
+        self._core = _core.Extractor(V, F, self.options, progress)
+        self._skeleton: Optional[Skeleton] = None
+
+    def prepare(self) -> PreparedMesh:
+        d = self._core.prepare()
+        return PreparedMesh(
+            vertices=np.asarray(d["vertices"]), faces=np.asarray(d["faces"]),
+            scale=float(d["scale"]), offset=np.asarray(d["offset"]).reshape(3),
+            genus=int(d["genus"]), repaired=bool(d["repaired"]), report=dict(d["report"]),
+            map_face=np.asarray(d["map_face"]), map_barycentric=np.asarray(d["map_barycentric"]))
+
+    def voronoi_balls(self) -> Balls:
+        d = self._core.voronoi_balls()
+        return Balls(np.asarray(d["centers"]).reshape(-1, 3), np.asarray(d["radii"]))
+
+    def domain_balls(self) -> Balls:
+        d = self._core.domain_balls()
+        return Balls(np.asarray(d["centers"]).reshape(-1, 3), np.asarray(d["radii"]),
+                     np.asarray(d["source"], dtype=np.int64))
+
+    def skeleton(self) -> Skeleton:
+        if self._skeleton is None:
+            self._skeleton = Skeleton._from_core(self._core.skeleton(), self.options)
+        return self._skeleton
+
+
+def extract_skeleton(V, F, progress: Optional[ProgressCallback] = None, **options) -> Skeleton:
+    """The DCG skeleton of the mesh (V #V x 3, F #F x 3), in the mesh's coordinates.
+
+    options: see dcg.OPTIONS (names, defaults, ranges) and README.md. progress(stage, fraction)
+    is called from the calling thread; return False to cancel (raises dcg.Cancelled).
+    """
+    return Extractor(V, F, progress, **options).skeleton()

@@ -1,0 +1,77 @@
+// Stage 0 (ALGORITHM.md "Prepare"): from the user's V, F to a closed, oriented, uniform working
+// mesh in normalized units (bounding-box diagonal 1), with a map back to the input vertices.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "dcg/types.h"
+
+namespace dcg {
+
+enum class Repair {
+  Auto,  ///< not a closed manifold -> build a closed manifold proxy with CGAL alpha_wrap_3
+  None,  ///< not a closed manifold -> InputError naming the problem
+};
+
+struct PrepareOptions {
+  Repair repair = Repair::Auto;
+  /// Uniform remeshing target (triangles of the working mesh); 0 keeps the welded input.
+  int target_faces = 20000;
+  /// Vertices closer than this (normalized units) are welded.
+  double weld_tolerance = 1e-7;
+  /// Seed for every randomized step of the stage.
+  unsigned seed = 0;
+};
+
+/// What stage 0 found in the input (after welding and dropping degenerate faces).
+struct MeshReport {
+  int input_vertices = 0;
+  int input_faces = 0;
+  int welded_vertices = 0;           ///< vertices merged into others
+  int dropped_faces = 0;             ///< degenerate (zero-area, repeated index) or duplicate faces
+  int border_edges = 0;              ///< edges with one incident face
+  int non_manifold_edges = 0;        ///< edges with more than two incident faces
+  int non_manifold_vertices = 0;     ///< vertices whose faces form several fans (pinched)
+  int components = 0;                ///< connected components (over shared edges)
+  bool orientable = true;            ///< faces can be oriented consistently over shared edges
+  bool closed_manifold() const {
+    return border_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 &&
+           orientable;
+  }
+};
+
+struct PreparedMesh {
+  /// The working mesh, normalized: input = working * scale + offset.
+  Mesh working;
+  double scale = 1.0;
+  Eigen::RowVector3d offset = Eigen::RowVector3d::Zero();
+  MeshReport report;
+  bool repaired = false;  ///< the working mesh is an alpha-wrap proxy of the input
+  double wrap_alpha = 0;  ///< alpha of the wrap when repaired (normalized units), else 0
+  bool remeshed = false;  ///< the working mesh was remeshed (false: the input was kept)
+  int genus = 0;          ///< total genus of the working mesh, from its Euler characteristic
+  /// Map from each input vertex to the working mesh: #V_in face indices into working.F and
+  /// #V_in by 3 barycentric coordinates of the closest working-mesh point.
+  Eigen::VectorXi map_face;
+  Vertices map_barycentric;
+
+  /// Normalized -> input coordinates.
+  Eigen::RowVector3d to_input(const Eigen::RowVector3d& p) const { return p * scale + offset; }
+};
+
+/// Checks V, F without changing them: finite coordinates, at least 4 vertices and 4 faces,
+/// indices in range. Throws InputError with the reason (which face, which index, ...).
+void validate_mesh(const Vertices& V, const Faces& F);
+
+/// Runs stage 0. Throws InputError for invalid input, or when the mesh is not a closed manifold
+/// and options.repair is Repair::None (the message gives border / non-manifold edges and
+/// components).
+PreparedMesh prepare_mesh(const Vertices& V, const Faces& F, const PrepareOptions& options = {});
+
+/// Genus from the Euler characteristic, summed over the connected components of (V, F):
+/// V - E + F = 2 - 2g per closed component.
+int mesh_genus(const Mesh& mesh);
+
+}  // namespace dcg

@@ -1,0 +1,40 @@
+// Stage 8 (ALGORITHM.md "Skeleton"): the result the rest of the project consumes.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dcg/types.h"
+
+namespace dcg {
+
+enum class NodeKind { End, Joint, Connection };
+
+/// "end", "joint" or "connection": the names used in Python, JSON and Blender.
+const char* node_kind_name(NodeKind kind);
+
+/// The skeleton in the INPUT's coordinates.
+struct Skeleton {
+  Points positions;                  ///< #N by 3 node positions
+  std::vector<NodeKind> kinds;       ///< #N kinds
+  Eigen::VectorXd radii;             ///< #N distance from each node to the surface
+  Eigen::VectorXd significance;      ///< #N prong ratio s/p for ends (lower = stronger), else 0
+  Edges links;                       ///< #L by 2 node index pairs
+  std::vector<Points> polylines;     ///< #L polylines, each from links(l,0) to links(l,1) inclusive
+  int root = -1;                     ///< the root node (the torso joint), -1 when empty
+  Eigen::VectorXi face_labels;       ///< #F_in node per input face; -1 = not labelled yet
+  /// Seconds per stage in the order they ran, then "total".
+  std::vector<std::pair<std::string, double>> timings;
+  // What stage 0 said about the mesh.
+  int input_vertices = 0;
+  int input_faces = 0;
+  int genus = 0;
+  bool repaired = false;
+  /// The stages that produced this skeleton, e.g. "interim_graph" while stages 4-8 are missing.
+  std::string method;
+};
+
+}  // namespace dcg

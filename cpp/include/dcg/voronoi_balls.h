@@ -1,0 +1,24 @@
+// Stage 1 (ALGORITHM.md "Voronoi balls", paper section 5): candidate balls inside the shape from
+// the Voronoi vertices (Delaunay circumcenters) of surface samples.
+#pragma once
+
+#include "dcg/types.h"
+
+namespace dcg {
+
+class SurfaceQuery;
+
+struct VoronoiBallsOptions {
+  /// Farthest-point samples on the working mesh's surface (paper: the vertices; more samples
+  /// are needed so that thin tips get a ball).
+  int samples = 4000;
+  unsigned seed = 0;
+};
+
+/// Candidate balls: the circumcenters of the finite Delaunay cells of the samples that lie
+/// strictly inside `mesh`, each with radius = distance to the surface (not to the samples).
+/// `mesh` is the closed working mesh of stage 0; `query` is a SurfaceQuery built on it.
+Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
+                            const VoronoiBallsOptions& options = {});
+
+}  // namespace dcg

@@ -1,0 +1,75 @@
+// Uniform remeshing for stage 0. See remesh.h.
+//
+// Target edge length L from the area A: target_faces equilateral triangles of side L cover A,
+// so L = sqrt(4 A / (sqrt(3) target_faces)). When the mesh has more than twice the target, it
+// is first decimated by edge collapse (Garland-Heckbert-like Lindstrom-Turk placement) to about
+// the target: isotropic remeshing alone takes many more iterations to coarsen by large factors.
+// Then a few isotropic remeshing iterations make the triangles uniform.
+#include "remesh.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+
+#include "dcg/errors.h"
+
+namespace dcg::internal {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+namespace SMS = CGAL::Surface_mesh_simplification;
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = K::Point_3;
+using SM = CGAL::Surface_mesh<Point>;
+
+Mesh remesh_uniform(const Mesh& mesh, int target_faces) {
+  SM sm;
+  std::vector<SM::Vertex_index> vs;
+  vs.reserve(mesh.V.rows());
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) vs.push_back(sm.add_vertex(Point(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2))));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    if (sm.add_face(vs[mesh.F(f, 0)], vs[mesh.F(f, 1)], vs[mesh.F(f, 2)]) == SM::null_face()) {
+      throw InputError("remeshing failed: face " + std::to_string(f) +
+                       " does not fit a manifold surface");
+    }
+  }
+  const double area = PMP::area(sm);
+  const double L = std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces));
+  if (static_cast<double>(sm.number_of_faces()) > 2.0 * target_faces) {
+    SMS::Count_stop_predicate<SM> stop(static_cast<std::size_t>(target_faces));
+    SMS::edge_collapse(sm, stop);
+    sm.collect_garbage();
+  }
+  PMP::isotropic_remeshing(faces(sm), L, sm,
+                           CGAL::parameters::number_of_iterations(3).number_of_relaxation_steps(1));
+  sm.collect_garbage();
+  Mesh out;
+  out.V.resize(sm.number_of_vertices(), 3);
+  std::vector<int> index(sm.num_vertices(), -1);
+  int n = 0;
+  for (auto v : sm.vertices()) {
+    const Point& p = sm.point(v);
+    out.V.row(n) << p.x(), p.y(), p.z();
+    index[v.idx()] = n++;
+  }
+  out.F.resize(sm.number_of_faces(), 3);
+  int f = 0;
+  for (auto face : sm.faces()) {
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(sm.halfedge(face), sm)) {
+      if (k < 3) out.F(f, k) = index[v.idx()];
+      ++k;
+    }
+    ++f;
+  }
+  return out;
+}
+
+}  // namespace dcg::internal

@@ -1,0 +1,209 @@
+// Stage 1: Voronoi balls. See dcg/voronoi_balls.h and ALGORITHM.md "1. Voronoi balls".
+//
+// Sampling: farthest-point sampling (FPS) over a dense candidate set on the surface: the mesh's
+// vertices (they hold the tips) plus area-weighted random points (seeded) up to 6 x `samples`
+// candidates. FPS uses a uniform grid and a lazy max-heap: each new sample only updates the
+// candidates within the current sampling radius, so the cost is about N log(samples), not
+// N x samples.
+// Balls: circumcenters of the finite Delaunay cells (CGAL, Epick), kept when strictly inside
+// the surface; radius = distance to the surface (SurfaceQuery), computed in parallel (TBB).
+#include "dcg/voronoi_balls.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <queue>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "dcg/errors.h"
+#include "dcg/surface_query.h"
+
+namespace dcg {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Delaunay = CGAL::Delaunay_triangulation_3<K>;
+
+// A uniform double in [0, 1) from a 32-bit Mersenne twister, the same on every platform.
+inline double uniform01(std::mt19937& rng) { return (rng() + 0.5) * (1.0 / 4294967296.0); }
+
+std::vector<Eigen::Vector3d> surface_candidates(const Mesh& mesh, int count, unsigned seed) {
+  std::vector<Eigen::Vector3d> pts;
+  const int nv = static_cast<int>(mesh.V.rows()), nf = static_cast<int>(mesh.F.rows());
+  pts.reserve(std::max(count, nv));
+  // Vertices that some face uses.
+  std::vector<char> used(nv, 0);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) used[mesh.F(f, k)] = 1;
+  for (int v = 0; v < nv; ++v)
+    if (used[v]) pts.emplace_back(mesh.V.row(v).transpose());
+  const int extra = count - static_cast<int>(pts.size());
+  if (extra <= 0 || nf == 0) return pts;
+  std::vector<double> cumulative(nf);
+  double total = 0;
+  for (int f = 0; f < nf; ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                          c = mesh.V.row(mesh.F(f, 2));
+    total += 0.5 * (b - a).cross(c - a).norm();
+    cumulative[f] = total;
+  }
+  if (!(total > 0)) return pts;
+  std::mt19937 rng(seed);
+  for (int i = 0; i < extra; ++i) {
+    const double u = uniform01(rng) * total;
+    int f = static_cast<int>(std::upper_bound(cumulative.begin(), cumulative.end(), u) -
+                             cumulative.begin());
+    f = std::min(f, nf - 1);
+    double r1 = std::sqrt(uniform01(rng)), r2 = uniform01(rng);
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                          c = mesh.V.row(mesh.F(f, 2));
+    pts.push_back((1 - r1) * a + r1 * (1 - r2) * b + r1 * r2 * c);
+  }
+  return pts;
+}
+
+// Farthest-point sampling of `k` points among `pts` (Euclidean), first one chosen by `seed`.
+std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k, unsigned seed) {
+  const int n = static_cast<int>(pts.size());
+  if (k >= n) {
+    std::vector<int> all(n);
+    for (int i = 0; i < n; ++i) all[i] = i;
+    return all;
+  }
+  Eigen::Vector3d lo = pts[0], hi = pts[0];
+  for (const auto& p : pts) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Eigen::Vector3d ext = (hi - lo).cwiseMax(1e-12);
+  // About k / 4 occupied cells for a surface: cell ~ 2 x the final sample spacing. Cap the cell
+  // count so that degenerate extents stay cheap.
+  double cell = std::sqrt(ext.x() * ext.y() + ext.y() * ext.z() + ext.z() * ext.x()) * 2.0 /
+                std::sqrt(static_cast<double>(k));
+  cell = std::max(cell, ext.maxCoeff() / 128.0);
+  const Eigen::Vector3i dims = ((ext / cell).array().floor().cast<int>() + 1).matrix();
+  auto cell_of = [&](const Eigen::Vector3d& p) {
+    Eigen::Vector3i c = ((p - lo) / cell).array().floor().cast<int>().matrix();
+    return c.cwiseMax(0).cwiseMin(dims - Eigen::Vector3i::Ones());
+  };
+  auto flat3 = [&](int x, int y, int z) {
+    return (static_cast<std::int64_t>(z) * dims.y() + y) * dims.x() + x;
+  };
+  auto flat = [&](const Eigen::Vector3i& c) { return flat3(c.x(), c.y(), c.z()); };
+  const std::int64_t ncells = static_cast<std::int64_t>(dims.x()) * dims.y() * dims.z();
+  std::vector<int> start(ncells + 1, 0), order(n);
+  std::vector<std::int64_t> cell_index(n);
+  for (int i = 0; i < n; ++i) {
+    cell_index[i] = flat(cell_of(pts[i]));
+    ++start[cell_index[i] + 1];
+  }
+  for (std::int64_t c = 0; c < ncells; ++c) start[c + 1] += start[c];
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int i = 0; i < n; ++i) order[fill[cell_index[i]]++] = i;
+  }
+  std::vector<double> d2(n, std::numeric_limits<double>::infinity());
+  std::priority_queue<std::pair<double, int>> heap;
+  std::vector<int> chosen;
+  chosen.reserve(k);
+  std::mt19937 rng(seed);
+  int next = static_cast<int>(rng() % static_cast<unsigned>(n));
+  double radius2 = std::numeric_limits<double>::infinity();
+  while (static_cast<int>(chosen.size()) < k) {
+    chosen.push_back(next);
+    const Eigen::Vector3d s = pts[next];
+    d2[next] = 0;
+    if (std::isinf(radius2)) {
+      for (int i = 0; i < n; ++i) {
+        d2[i] = (pts[i] - s).squaredNorm();
+        heap.emplace(d2[i], i);
+      }
+    } else {
+      const double r = std::sqrt(radius2);
+      const Eigen::Vector3i c0 = cell_of(s - Eigen::Vector3d::Constant(r)),
+                            c1 = cell_of(s + Eigen::Vector3d::Constant(r));
+      for (int z = c0.z(); z <= c1.z(); ++z)
+        for (int y = c0.y(); y <= c1.y(); ++y)
+          for (int x = c0.x(); x <= c1.x(); ++x) {
+            const std::int64_t c = flat3(x, y, z);
+            for (int j = start[c]; j < start[c + 1]; ++j) {
+              const int i = order[j];
+              const double d = (pts[i] - s).squaredNorm();
+              if (d < d2[i]) {
+                d2[i] = d;
+                heap.emplace(d, i);
+              }
+            }
+          }
+    }
+    // The farthest candidate: pop stale heap entries.
+    while (!heap.empty() && heap.top().first != d2[heap.top().second]) heap.pop();
+    if (heap.empty() || heap.top().first <= 0) break;  // fewer distinct points than k
+    next = heap.top().second;
+    radius2 = heap.top().first;
+  }
+  return chosen;
+}
+
+}  // namespace
+
+Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
+                            const VoronoiBallsOptions& options) {
+  if (options.samples < 4) {
+    throw InputError("samples must be at least 4, got " + std::to_string(options.samples));
+  }
+  if (mesh.F.rows() < 4 || mesh.V.rows() < 4) throw InputError("voronoi balls: empty mesh");
+  const std::vector<Eigen::Vector3d> candidates =
+      surface_candidates(mesh, 6 * options.samples, options.seed);
+  const std::vector<int> picked = farthest_points(candidates, options.samples, options.seed);
+
+  std::vector<Delaunay::Point> points;
+  points.reserve(picked.size());
+  for (int i : picked) points.emplace_back(candidates[i].x(), candidates[i].y(), candidates[i].z());
+  Delaunay dt(points.begin(), points.end());
+
+  const Eigen::RowVector3d lo = mesh.V.colwise().minCoeff(), hi = mesh.V.colwise().maxCoeff();
+  std::vector<Eigen::Vector3d> centers;
+  centers.reserve(dt.number_of_finite_cells());
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    const auto p = CGAL::circumcenter(c->vertex(0)->point(), c->vertex(1)->point(),
+                                      c->vertex(2)->point(), c->vertex(3)->point());
+    const Eigen::Vector3d e(p.x(), p.y(), p.z());
+    if (!e.allFinite()) continue;
+    if ((e.transpose().array() <= lo.array()).any() || (e.transpose().array() >= hi.array()).any())
+      continue;
+    centers.push_back(e);
+  }
+  std::vector<double> radius(centers.size(), -1.0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, centers.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const double sd = query.signed_distance(centers[i]);
+                        if (sd < 0) radius[i] = -sd;
+                      }
+                    });
+  std::size_t kept = 0;
+  for (double r : radius)
+    if (r > 0) ++kept;
+  Balls balls;
+  balls.centers.resize(static_cast<Eigen::Index>(kept), 3);
+  balls.radii.resize(static_cast<Eigen::Index>(kept));
+  Eigen::Index j = 0;
+  for (std::size_t i = 0; i < centers.size(); ++i) {
+    if (!(radius[i] > 0)) continue;
+    balls.centers.row(j) = centers[i].transpose();
+    balls.radii[j] = radius[i];
+    ++j;
+  }
+  return balls;
+}
+
+}  // namespace dcg
