@@ -8,6 +8,8 @@ name across mode switches (EditBone references die when edit mode ends).
 import bpy
 import numpy as np
 
+from . import mesh_io
+
 RIG_PROPERTY = "dcg_rig"  #: custom property that marks an armature object as a DCG rig
 MODIFIER_NAME = "DCG Rig"
 
@@ -158,3 +160,61 @@ def bone_world_segments(arm_obj):
     tails = np.array([b.tail_local for b in arm_obj.data.bones], dtype=float).reshape(-1, 3)
     return (heads @ matrix[:3, :3].T + matrix[:3, 3], tails @ matrix[:3, :3].T + matrix[:3, 3])
 
+
+
+class BindingSnapshot:
+    """What binds a mesh to its DCG rigs, saved so that a failed re-rig can put it back.
+
+    Saves the parent and its inverse matrix, the world matrix, the Armature modifiers that
+    use `rigs` (name, object, position in the stack, settings that matter) and every vertex
+    group of the mesh with its weights.
+    """
+
+    def __init__(self, mesh_obj, rigs):
+        self.mesh_obj = mesh_obj
+        self.parent = mesh_obj.parent
+        self.parent_inverse = mesh_obj.matrix_parent_inverse.copy()
+        self.world = mesh_obj.matrix_world.copy()
+        self.modifiers = [(i, m.name, m.object, m.use_vertex_groups, m.use_bone_envelopes,
+                           m.use_deform_preserve_volume)
+                          for i, m in enumerate(mesh_obj.modifiers)
+                          if m.type == "ARMATURE" and m.object in rigs]
+        # Every vertex group, in order, so that restoring keeps names, indices and locks.
+        self.names = [group.name for group in mesh_obj.vertex_groups]
+        self.locks = [group.lock_weight for group in mesh_obj.vertex_groups]
+        self.active_group = mesh_obj.vertex_groups.active_index
+        self.weights = mesh_io.read_groups(mesh_obj, self.names)
+
+    def restore(self):
+        """Put the saved binding back (the rigs themselves must still exist)."""
+        obj = self.mesh_obj
+        obj.vertex_groups.clear()
+        mesh_io.write_groups(obj, self.names, *self.weights)
+        for group, lock in zip(obj.vertex_groups, self.locks):
+            group.lock_weight = lock
+        obj.vertex_groups.active_index = self.active_group
+        for index, name, rig, use_groups, use_envelopes, preserve in self.modifiers:
+            modifier = obj.modifiers.get(name)
+            if modifier is None or modifier.type != "ARMATURE":
+                modifier = obj.modifiers.new(name, "ARMATURE")
+            modifier.object = rig
+            modifier.use_vertex_groups = use_groups
+            modifier.use_bone_envelopes = use_envelopes
+            modifier.use_deform_preserve_volume = preserve
+            position = list(obj.modifiers).index(modifier)
+            while position > index and position > 0:
+                _move_modifier_up(obj, modifier)
+                position -= 1
+        obj.parent = self.parent
+        obj.matrix_parent_inverse = self.parent_inverse
+        obj.matrix_world = self.world
+
+
+def _move_modifier_up(obj, modifier):
+    """Move `modifier` one place up the stack of `obj` without an operator context."""
+    if hasattr(obj.modifiers, "move"):  # Blender 3.5 and later
+        index = list(obj.modifiers).index(modifier)
+        obj.modifiers.move(index, index - 1)
+        return
+    with bpy.context.temp_override(object=obj):
+        bpy.ops.object.modifier_move_up(modifier=modifier.name)

@@ -55,3 +55,48 @@ def mesh_from_arrays(name, V, F):
     mesh.validate()
     mesh.update()
     return mesh
+
+
+def empty_groups(obj, names):
+    """Give `obj` an empty vertex group per name (replacing same-named groups)."""
+    for name in names:
+        group = obj.vertex_groups.get(name)
+        if group is not None:
+            obj.vertex_groups.remove(group)
+        obj.vertex_groups.new(name=name)
+
+
+def read_groups(obj, names):
+    """Return the sparse weights (rows, cols, values) of the vertex groups named `names`
+    (column i is names[i]; missing groups give no entries)."""
+    column = {obj.vertex_groups[n].index: i for i, n in enumerate(names)
+              if n in obj.vertex_groups}
+    rows, cols, values = [], [], []
+    for vertex in obj.data.vertices:
+        for element in vertex.groups:
+            col = column.get(element.group)
+            if col is not None and element.weight > 0:
+                rows.append(vertex.index)
+                cols.append(col)
+                values.append(element.weight)
+    return (np.array(rows, dtype=np.int64), np.array(cols, dtype=np.int64),
+            np.array(values, dtype=float))
+
+
+def write_groups(obj, names, rows, cols, values):
+    """Replace the vertex groups `names` of `obj` by the sparse weights (rows, cols, values).
+
+    Entries that share a group and a weight go in one call (full weights of 1, common
+    far from the joints, batch well)."""
+    empty_groups(obj, names)
+    groups = [obj.vertex_groups[n] for n in names]
+    rows, cols, values = (np.asarray(a) for a in (rows, cols, values))
+    if not len(rows):
+        return
+    order = np.lexsort((values, cols))
+    rows, cols, values = rows[order], cols[order], values[order]
+    keys = np.stack([cols, values])
+    starts = np.flatnonzero(np.r_[True, (np.diff(keys, axis=1) != 0).any(axis=0)])
+    ends = np.r_[starts[1:], len(rows)]
+    for start, end in zip(starts.tolist(), ends.tolist()):
+        groups[int(cols[start])].add(rows[start:end].tolist(), float(values[start]), "REPLACE")

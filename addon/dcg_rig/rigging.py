@@ -47,22 +47,30 @@ def extract(context, obj, options, progress=None):
 def apply_rig(context, mesh_obj, skeleton, weight_method="BLENDER", bone_detail=0.5):
     """Rig `mesh_obj` from `skeleton` (world coordinates); return a RigResult.
 
-    Earlier DCG rigs of the mesh and the preview are removed first. If something fails
-    after that, the new armature is removed again before the exception propagates.
+    Transactional: the mesh's earlier DCG rigs are detached (not deleted) while the new rig
+    is built and bound. On success they are deleted along with the preview; on failure the
+    new armature is deleted and the earlier binding (vertex groups, modifiers, parent) is
+    restored, then the exception propagates.
     """
     plan = bones.plan_bones(skeleton, bone_detail)
     if not plan:
         raise RigError(f"the skeleton of {mesh_obj.name} has no bones "
                        f"({len(skeleton.positions)} nodes, {len(skeleton.links)} links)")
-    preview.clear_preview()
-    armature.clear_rigs(mesh_obj)
+    old_rigs = armature.find_rigs(mesh_obj)
+    saved = armature.BindingSnapshot(mesh_obj, old_rigs)
     arm_obj = None
     try:
+        for old in old_rigs:
+            armature.detach(mesh_obj, old)
         arm_obj = armature.build_armature(context, mesh_obj, plan)
         warnings = weights.apply_weights(context, mesh_obj, arm_obj, plan, weight_method)
-    except Exception:
+    except BaseException:
         if arm_obj is not None:
             armature.detach(mesh_obj, arm_obj)
             armature.remove_armature(arm_obj)
+        saved.restore()
         raise
+    for old in old_rigs:
+        armature.remove_armature(old)
+    preview.clear_preview()
     return RigResult(arm_obj, len(plan), warnings)

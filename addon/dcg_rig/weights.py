@@ -34,20 +34,11 @@ def apply_weights(context, mesh_obj, arm_obj, plan, method):
     if method == "BLENDER":
         warnings += _bone_heat_checked(context, mesh_obj, arm_obj, plan)
     else:
-        _empty_groups(mesh_obj, names)
+        mesh_io.empty_groups(mesh_obj, names)
         if method == "ENVELOPE":
-            _write(mesh_obj, names, *_envelope(mesh_obj, plan, None))
+            mesh_io.write_groups(mesh_obj, names, *_envelope(mesh_obj, plan, None))
     armature.bind(mesh_obj, arm_obj)
     return warnings
-
-
-def _empty_groups(mesh_obj, names):
-    """Give `mesh_obj` an empty vertex group per bone name (replacing same-named groups)."""
-    for name in names:
-        group = mesh_obj.vertex_groups.get(name)
-        if group is not None:
-            mesh_obj.vertex_groups.remove(group)
-        mesh_obj.vertex_groups.new(name=name)
 
 
 def _envelope(mesh_obj, plan, vertices):
@@ -61,41 +52,17 @@ def _envelope(mesh_obj, plan, vertices):
     return index[rows], cols, values
 
 
-def _read(mesh_obj, names):
-    """Return the sparse weights (rows, cols, values) of the vertex groups named `names`."""
-    column = {mesh_obj.vertex_groups[n].index: i for i, n in enumerate(names)
-              if n in mesh_obj.vertex_groups}
-    rows, cols, values = [], [], []
-    for vertex in mesh_obj.data.vertices:
-        for element in vertex.groups:
-            col = column.get(element.group)
-            if col is not None and element.weight > 0:
-                rows.append(vertex.index)
-                cols.append(col)
-                values.append(element.weight)
-    return (np.array(rows, dtype=np.int64), np.array(cols, dtype=np.int64),
-            np.array(values, dtype=float))
-
-
-def _write(mesh_obj, names, rows, cols, values):
-    """Replace the contents of the vertex groups `names` by the sparse weights."""
-    _empty_groups(mesh_obj, names)
-    groups = [mesh_obj.vertex_groups[n] for n in names]
-    for row, col, value in zip(rows.tolist(), cols.tolist(), values.tolist()):
-        groups[col].add([row], value, "REPLACE")
-
-
 def _bone_heat_checked(context, mesh_obj, arm_obj, plan):
     """Automatic Weights, checked, retried at scale 100, completed by envelope weights."""
     names = [spec.name for spec in plan]
     count = len(mesh_obj.data.vertices)
     warnings = []
     _bone_heat(context, mesh_obj, arm_obj)
-    weights = _read(mesh_obj, names)
+    weights = mesh_io.read_groups(mesh_obj, names)
     if (skinning.weight_sums(weights[0], weights[2], count) <= 0).any():
         armature.detach(mesh_obj, arm_obj)
         _bone_heat_scaled(context, mesh_obj, arm_obj)
-        weights = _read(mesh_obj, names)
+        weights = mesh_io.read_groups(mesh_obj, names)
     rows, cols, values = skinning.normalize_and_prune(*weights)
     missing = np.flatnonzero(skinning.weight_sums(rows, values, count) <= 0)
     if len(missing):
@@ -104,7 +71,7 @@ def _bone_heat_checked(context, mesh_obj, arm_obj, plan):
         extra = _envelope(mesh_obj, plan, missing)
         rows, cols, values = (np.concatenate([a, b]) for a, b in zip((rows, cols, values),
                                                                       extra))
-    _write(mesh_obj, names, rows, cols, values)
+    mesh_io.write_groups(mesh_obj, names, rows, cols, values)
     return warnings
 
 

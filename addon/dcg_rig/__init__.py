@@ -1,0 +1,44 @@
+"""dcg-rig: one-click automatic rigging with the Domain Connected Graph skeleton.
+
+The operator `dcg.rig` (Object > Animation > Rig with DCG, or the sidebar's DCG tab) turns
+the active mesh into a rigged character: the engine (`dcg`, C++) extracts the skeleton of
+the evaluated mesh in world space, `armature` builds end, joint and connection bones and
+`weights` binds the mesh. `cli.py` does the same headlessly (`make rig`).
+
+The modules without `bpy` (bones, options, skinning, geometry, worker, _engine) are tested
+by plain pytest; this file only registers when it runs inside Blender.
+"""
+
+bl_info = {
+    "name": "DCG Rig",
+    "author": "dcg-rig developers",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "View3D > Sidebar > DCG, and Object > Animation > Rig with DCG",
+    "description": "One-click automatic rigging from the Domain Connected Graph skeleton",
+    "category": "Rigging",
+}
+
+try:
+    import bpy
+except ImportError:  # plain Python (pytest on the pure modules)
+    bpy = None
+
+if bpy is not None:
+    from bpy.props import PointerProperty
+
+    from . import operators, properties, ui
+
+    _CLASSES = (properties.DCGRigSettings, *operators.CLASSES, *ui.CLASSES)
+
+    def register():
+        for cls in _CLASSES:
+            bpy.utils.register_class(cls)
+        bpy.types.Scene.dcg_rig = PointerProperty(type=properties.DCGRigSettings)
+        bpy.types.VIEW3D_MT_object_animation.append(ui.menu_entry)
+
+    def unregister():
+        bpy.types.VIEW3D_MT_object_animation.remove(ui.menu_entry)
+        del bpy.types.Scene.dcg_rig
+        for cls in reversed(_CLASSES):
+            bpy.utils.unregister_class(cls)

@@ -1,0 +1,123 @@
+"""Headless rigging: load a mesh file, rig it, save .blend / .glb / .png.
+
+    blender -b --factory-startup --python addon/dcg_rig/cli.py -- MESH \\
+        [-o OUT.blend] [--glb OUT.glb] [--png OUT.png] [--up auto|y|z] \\
+        [--weights DCG|BLENDER|ENVELOPE|NONE] [--bone-detail 0.5] [--tau 0.85 ...]
+
+Every engine option is a flag (`--target-faces 20000`); `--help` lists them. `make rig`
+runs this on the bundled Spot. It goes through the add-on's own operators (dcg.load_mesh,
+dcg.rig), so it checks the same path a user clicks. Exit status 0 on success, 1 with an
+"error: ..." line when anything fails, 2 for bad arguments.
+"""
+
+import argparse
+import os
+import sys
+import time
+
+import bpy
+
+
+def _script_args():
+    """Return the arguments after Blender's `--`."""
+    return sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+
+
+def _load_addon():
+    """Import and register the dcg_rig package this file belongs to (once)."""
+    parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    if parent not in sys.path:
+        sys.path.insert(0, parent)
+    import dcg_rig  # noqa: E402  (needs the path above)
+
+    if not hasattr(bpy.types.Scene, "dcg_rig"):
+        dcg_rig.register()
+    return dcg_rig
+
+
+def _parser(engine_specs, addon_options):
+    parser = argparse.ArgumentParser(
+        prog="blender -b --python addon/dcg_rig/cli.py --",
+        description="Rig a mesh file with the DCG skeleton and save the result.")
+    parser.add_argument("mesh", help="OBJ, OFF, PLY or STL file")
+    parser.add_argument("-o", "--output", help="write the rigged scene to this .blend file")
+    parser.add_argument("--glb", help="export the rigged mesh and armature as glTF binary")
+    parser.add_argument("--png", help="render a picture of the rig (mesh in x-ray, bones "
+                                      "colored by kind: end red, joint purple, connection blue)")
+    parser.add_argument("--up", choices=("auto", "y", "z"), default="auto",
+                        help="the file's up axis (auto: y for OBJ, z otherwise)")
+    parser.add_argument("--resolution", type=int, nargs=2, default=(960, 720),
+                        metavar=("W", "H"), help="picture size in pixels")
+    parser.add_argument("--weights", choices=[m[0] for m in addon_options.WEIGHT_METHODS],
+                        default=addon_options.ADDON_DEFAULTS["weights"])
+    parser.add_argument("--bone-detail", type=float,
+                        default=addon_options.ADDON_DEFAULTS["bone_detail"])
+    for spec in engine_specs:
+        flag = "--" + spec.name.replace("_", "-")
+        if spec.kind == "enum":
+            parser.add_argument(flag, dest=spec.name, choices=[c[0] for c in spec.choices],
+                                help=spec.description)
+        else:
+            parser.add_argument(flag, dest=spec.name,
+                                type=int if spec.kind == "int" else float,
+                                help=f"{spec.description} (default {spec.default})")
+    return parser
+
+
+def _fail(message):
+    print(f"error: {message}", file=sys.stderr, flush=True)
+    sys.exit(1)
+
+
+def _rig_mesh_object():
+    """Return the armature and mesh objects the rig operator made."""
+    arm = next((o for o in bpy.data.objects if o.type == "ARMATURE"), None)
+    mesh = next((o for o in bpy.data.objects if o.type == "MESH" and o.parent == arm), None)
+    return arm, mesh
+
+
+def main():
+    # Start from an empty scene (the factory one has a cube, a camera and a light).
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    _load_addon()
+    from dcg_rig import _engine, options, picture, properties
+
+    if _engine.error() is not None:
+        _fail(_engine.error())
+    args = _parser(properties.ENGINE_SPECS, options).parse_args(_script_args())
+    started = time.perf_counter()
+    mesh_path = os.path.abspath(args.mesh)
+    try:
+        bpy.ops.dcg.load_mesh(filepath=mesh_path, up_axis=args.up.upper())
+    except RuntimeError as error:  # the operator's error report
+        _fail(str(error).strip())
+    engine_kwargs = {s.name: getattr(args, s.name) for s in properties.ENGINE_SPECS
+                     if getattr(args, s.name) is not None}
+    try:
+        bpy.ops.dcg.rig(weights=args.weights, bone_detail=args.bone_detail, **engine_kwargs)
+    except RuntimeError as error:
+        _fail(str(error).strip())
+    arm_obj, mesh_obj = _rig_mesh_object()
+    if arm_obj is None or mesh_obj is None:
+        _fail("the rig operator finished without an armature bound to the mesh")
+    print(f"dcg: {mesh_obj.name}: {len(arm_obj.data.bones)} bones "
+          f"({', '.join(f'{k} {v:.3f} s' for k, v in arm_obj['dcg_timings'].items())})")
+    for path in (args.output, args.glb, args.png):
+        if path:
+            os.makedirs(os.path.dirname(os.path.abspath(path)) or ".", exist_ok=True)
+    if args.output:
+        bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.output), check_existing=False)
+        print(f"dcg: wrote {args.output}")
+    if args.glb:
+        bpy.ops.export_scene.gltf(filepath=os.path.abspath(args.glb), export_format="GLB",
+                                  export_skins=True, export_animations=False)
+        print(f"dcg: wrote {args.glb}")
+    if args.png:
+        picture.render_rig_picture(bpy.context, args.png, arm_obj, mesh_obj,
+                                   tuple(args.resolution))
+        print(f"dcg: wrote {args.png}")
+    print(f"dcg: done in {time.perf_counter() - started:.2f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,111 @@
+"""The DCG tab of the 3D View's sidebar (N panel) and the Object > Animation menu entry."""
+
+import bpy
+
+from . import _engine, armature, properties
+
+#: Engine options shown in the main panel; the others go to "Advanced".
+MAIN_OPTIONS = ("tau", "target_faces", "repair")
+
+
+def _wrapped(layout, text, width=48):
+    """Draw `text` as several labels of about `width` characters."""
+    line = ""
+    for word in text.split():
+        if line and len(line) + len(word) > width:
+            layout.label(text=line)
+            line = ""
+        line = f"{line} {word}".strip()
+    if line:
+        layout.label(text=line)
+
+
+class VIEW3D_PT_dcg_rig(bpy.types.Panel):
+    """Rig the active mesh with the DCG skeleton."""
+
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "DCG"
+    bl_label = "DCG Rig"
+
+    def draw(self, context):
+        layout = self.layout
+        error = _engine.error()
+        if error is not None:
+            box = layout.box()
+            box.alert = True
+            box.label(text="The DCG engine is not available", icon="ERROR")
+            _wrapped(box, error)
+            return
+        obj = context.active_object
+        if obj is not None and obj.type == "MESH":
+            layout.label(text=f"{obj.name}: {len(obj.data.polygons)} faces", icon="MESH_DATA")
+        else:
+            layout.label(text="Select a mesh object", icon="INFO")
+        settings = properties.settings(context)
+        layout.operator_menu_enum("dcg.preset", "preset", text="Preset", icon="PRESET")
+        col = layout.column(align=True)
+        for name in MAIN_OPTIONS:
+            if hasattr(settings, name):
+                col.prop(settings, name)
+        col = layout.column(align=True)
+        col.prop(settings, "weights")
+        col.prop(settings, "bone_detail", slider=True)
+        row = layout.row()
+        row.scale_y = 1.5
+        row.operator("dcg.rig", icon="ARMATURE_DATA")
+        row = layout.row(align=True)
+        row.operator("dcg.preview", icon="HIDE_OFF")
+        row.operator("dcg.clear", icon="X", text="Clear")
+        layout.operator("dcg.load_mesh", icon="FILEBROWSER")
+        if obj is not None and obj.type == "MESH":
+            self._draw_last_rig(layout, obj)
+
+    @staticmethod
+    def _draw_last_rig(layout, obj):
+        """Show the bone counts and stage timings of the active mesh's rig, if any."""
+        rigs = armature.find_rigs(obj)
+        if not rigs:
+            return
+        rig = rigs[0]
+        box = layout.box()
+        kinds = [b.get("dcg_kind", "?") for b in rig.data.bones]
+        box.label(text=f"{rig.name}: {len(kinds)} bones", icon="BONE_DATA")
+        box.label(text=", ".join(f"{kinds.count(k)} {k}" for k in ("end", "joint",
+                                                                   "connection")))
+        timings = rig.get("dcg_timings")
+        if timings:
+            col = box.column(align=True)
+            for stage, seconds in timings.items():
+                col.label(text=f"{stage}: {seconds:.3f} s")
+
+
+class VIEW3D_PT_dcg_rig_advanced(bpy.types.Panel):
+    """The engine options not in the main panel."""
+
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "DCG"
+    bl_label = "Advanced"
+    bl_parent_id = "VIEW3D_PT_dcg_rig"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return _engine.error() is None
+
+    def draw(self, context):
+        settings = properties.settings(context)
+        col = self.layout.column(align=True)
+        for spec in properties.ENGINE_SPECS:
+            if spec.name not in MAIN_OPTIONS:
+                col.prop(settings, spec.name)
+
+
+def menu_entry(self, context):
+    """Object > Animation: the Rig operator."""
+    self.layout.separator()
+    self.layout.operator("dcg.rig", icon="ARMATURE_DATA")
+
+
+CLASSES = (VIEW3D_PT_dcg_rig, VIEW3D_PT_dcg_rig_advanced)

@@ -1,0 +1,178 @@
+"""The rig operator on real and synthetic meshes: armature, weights, posing, failures."""
+
+import numpy as np
+import pytest
+from mathutils import Quaternion, Vector
+
+import bpy
+from conftest import add_mesh, capsule, scene_counts
+
+
+def rig(**kwargs):
+    return bpy.ops.dcg.rig(**kwargs)
+
+
+def armatures():
+    return [o for o in bpy.data.objects if o.type == "ARMATURE"]
+
+
+def vertex_weight_sums(obj):
+    return np.array([sum(g.weight for g in v.groups) for v in obj.data.vertices])
+
+
+def evaluated_vertices(obj):
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        co = np.empty(len(mesh.vertices) * 3)
+        mesh.vertices.foreach_get("co", co)
+    finally:
+        evaluated.to_mesh_clear()
+    return co.reshape(-1, 3)
+
+
+@pytest.fixture
+def spot(repo):
+    bpy.ops.dcg.load_mesh(filepath=str(repo / "data" / "spot.obj"))
+    obj = bpy.context.active_object
+    obj.location = (3.0, -1.0, 0.5)
+    obj.scale = (2.0, 2.0, 2.0)
+    bpy.context.view_layer.update()
+    return obj
+
+
+@pytest.mark.parametrize("weights", ["BLENDER", "ENVELOPE"])
+def test_rig_spot_gives_a_bound_armature_inside_the_mesh(spot, weights):
+    assert rig(weights=weights) == {"FINISHED"}
+    (arm,) = armatures()
+    bones = arm.data.bones
+    assert len(bones) > 0
+    assert {b["dcg_kind"] for b in bones} <= {"end", "joint", "connection"}
+    assert spot.parent == arm
+    assert any(m.type == "ARMATURE" and m.object == arm for m in spot.modifiers)
+    # The rest bones lie in the mesh's world bounding box (the mesh was moved and scaled).
+    corners = np.array([spot.matrix_world @ Vector(c) for c in spot.bound_box])
+    low, high = corners.min(axis=0), corners.max(axis=0)
+    from dcg_rig import armature
+
+    heads, tails = armature.bone_world_segments(arm)
+    pad = 1e-6 * np.linalg.norm(high - low)
+    for points in (heads, tails):
+        assert (points >= low - pad).all() and (points <= high + pad).all()
+    # Every vertex is weighted, normalized, with at most 4 influences.
+    sums = vertex_weight_sums(spot)
+    assert np.allclose(sums, 1.0, atol=1e-3), f"{np.sum(~np.isclose(sums, 1, atol=1e-3))} bad"
+    assert max(len(v.groups) for v in spot.data.vertices) <= 4
+
+
+def test_posing_a_bone_moves_the_mesh(spot):
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    (arm,) = armatures()
+    rest = evaluated_vertices(spot)
+    pose_bone = max(arm.pose.bones, key=lambda b: b.length)
+    pose_bone.rotation_mode = "QUATERNION"
+    pose_bone.rotation_quaternion = Quaternion((1.0, 0.0, 0.0), 0.8)
+    bpy.context.view_layer.update()
+    posed = evaluated_vertices(spot)
+    moved = np.linalg.norm(posed - rest, axis=1)
+    assert moved.max() > 1e-3
+    assert moved.min() < 1e-9 or (moved < 0.5 * moved.max()).any()
+
+
+def test_rigging_again_replaces_the_previous_rig(spot):
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    (arm,) = armatures()
+    assert spot.parent == arm
+    assert len([m for m in spot.modifiers if m.type == "ARMATURE"]) == 1
+    assert len(bpy.data.armatures) == 1
+
+
+def test_a_failed_rig_leaves_the_previous_rig_as_it_was(spot, monkeypatch):
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    before = scene_counts()
+    sums = vertex_weight_sums(spot)
+    from dcg_rig import weights
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("weights exploded")
+
+    monkeypatch.setattr(weights, "apply_weights", broken)
+    with pytest.raises(RuntimeError, match="weights exploded"):
+        rig(weights="ENVELOPE")
+    assert scene_counts() == before
+    assert np.allclose(vertex_weight_sums(spot), sums)
+
+
+def test_a_failed_first_rig_leaves_the_scene_untouched(monkeypatch):
+    add_mesh("capsule", *capsule())
+    before = scene_counts()
+    from dcg_rig import weights
+
+    monkeypatch.setattr(weights, "apply_weights",
+                        lambda *a, **k: (_ for _ in ()).throw(ValueError("no weights")))
+    with pytest.raises(RuntimeError, match="no weights"):
+        rig()
+    assert scene_counts() == before
+
+
+def test_a_mesh_too_small_is_an_error_report_not_a_crash():
+    add_mesh("triangle", np.eye(3), np.array([[0, 1, 2]]))
+    before = scene_counts()
+    with pytest.raises(RuntimeError, match="at least 4"):
+        rig()
+    assert scene_counts() == before
+
+
+def test_an_empty_mesh_is_an_error_report():
+    add_mesh("empty", np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64))
+    with pytest.raises(RuntimeError, match="DCG"):
+        rig()
+    assert not armatures()
+
+
+def test_open_mesh_with_repair_none_is_an_error_report_naming_the_problem():
+    V, F = capsule()
+    add_mesh("open capsule", V, F[:-6])
+    before = scene_counts()
+    with pytest.raises(RuntimeError, match="border|open|closed"):
+        rig(repair="none")
+    assert scene_counts() == before
+
+
+def test_open_mesh_is_repaired_by_default():
+    V, F = capsule()
+    add_mesh("open capsule", V, F[:-6])
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    assert len(armatures()) == 1
+
+
+def test_rig_needs_an_active_mesh():
+    bpy.context.view_layer.objects.active = None
+    with pytest.raises(RuntimeError, match="context is incorrect|select a mesh"):
+        rig()
+
+
+def test_preview_shows_the_skeleton_and_clear_removes_it():
+    add_mesh("capsule", *capsule())
+    assert bpy.ops.dcg.preview() == {"FINISHED"}
+    collection = bpy.data.collections["DCG Preview"]
+    assert len(collection.objects) >= 2
+    assert bpy.ops.dcg.clear() == {"FINISHED"}
+    assert bpy.data.collections.get("DCG Preview") is None
+
+
+def test_rig_uses_the_world_space_evaluated_mesh(dcg):
+    V, F = capsule()
+    obj = add_mesh("capsule", V, F, location=(5.0, 0.0, 0.0), scale=3.0)
+    modifier = obj.modifiers.new("subdivide", "SUBSURF")
+    modifier.levels = 1
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    (arm,) = armatures()
+    from dcg_rig import armature
+
+    heads, tails = armature.bone_world_segments(arm)
+    points = np.vstack([heads, tails])
+    assert points[:, 0].min() > 5.0 - 3 * 0.35 and points[:, 0].max() < 5.0 + 3 * 0.35
+    assert points[:, 2].min() > -3 * 1.35 and points[:, 2].max() < 3 * 1.35
