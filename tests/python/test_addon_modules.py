@@ -1,0 +1,144 @@
+"""The add-on's modules that need no Blender (bones, options, skinning, geometry, worker),
+tested with plain Python so that their logic is checked without starting Blender."""
+
+import sys
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
+
+from dcg_rig import bones, geometry, options, skinning, worker  # noqa: E402
+
+import dcg  # noqa: E402
+
+
+def skeleton_of(positions, kinds, links, polylines=None, root=0, radii=None):
+    positions = np.asarray(positions, dtype=float)
+    if polylines is None:
+        polylines = [positions[[a, b]] for a, b in links]
+    return types.SimpleNamespace(
+        positions=positions, kinds=np.array(kinds), links=np.array(links),
+        polylines=[np.asarray(p, dtype=float) for p in polylines], root=root,
+        radii=np.full(len(positions), 0.1) if radii is None else np.asarray(radii))
+
+
+def y_shape():
+    """A root joint with three arms, the first arm a 4-point polyline."""
+    positions = [[0, 0, 0], [0, 0, 1], [1, 0, -1], [-1, 0, -1]]
+    polylines = [[[0, 0, 0], [0.1, 0, 0.3], [-0.1, 0, 0.6], [0, 0, 1]],
+                 [[0, 0, 0], [1, 0, -1]], [[0, 0, 0], [-1, 0, -1]]]
+    return skeleton_of(positions, ["joint", "end", "end", "end"], [[0, 1], [0, 2], [0, 3]],
+                       polylines)
+
+
+def test_plan_bones_one_chain_per_link_parents_first():
+    plan = bones.plan_bones(y_shape(), bone_detail=1.0)
+    assert len(plan) == 3 + 1 + 1
+    seen = set()
+    for spec in plan:
+        assert spec.parent is None or spec.parent in seen
+        seen.add(spec.name)
+    assert sorted(s.name for s in plan if s.kind == "end") == ["end.001", "end.002",
+                                                                "end.003"]
+    assert {s.node for s in plan if s.kind == "end"} == {1, 2, 3}
+    assert all(np.linalg.norm(s.tail - s.head) > 0 for s in plan)
+
+
+def test_bone_detail_zero_gives_one_bone_per_link():
+    plan = bones.plan_bones(y_shape(), bone_detail=0.0)
+    assert len(plan) == 3
+    assert all(s.parent is None for s in plan)  # all start at the root node
+
+
+def test_a_cycle_keeps_every_link_and_the_hierarchy_stays_a_tree():
+    ring = skeleton_of([[0, 0, 0], [1, 0, 0], [0, 1, 0]], ["joint"] * 3,
+                       [[0, 1], [1, 2], [2, 0]])
+    plan = bones.plan_bones(ring, bone_detail=0.0)
+    assert len(plan) == 3
+    names = {s.name: s for s in plan}
+    for spec in plan:  # following parents always ends at a root: no cycle
+        chain, current = set(), spec
+        while current.parent is not None:
+            assert current.name not in chain
+            chain.add(current.name)
+            current = names[current.parent]
+    assert sum(1 for s in plan if s.parent is not None and not s.use_connect) >= 1
+
+
+def test_simplify_polyline_keeps_ends_and_the_farthest_point():
+    points = np.array([[0, 0, 0], [1, 0.01, 0], [2, 1, 0], [3, 0, 0], [4, 0, 0]], float)
+    assert bones.simplify_polyline(points, 0.0) == [0, 4]
+    assert bones.simplify_polyline(points, 1.0) == [0, 1, 2, 3, 4]
+    assert bones.simplify_polyline(points, 0.34) == [0, 2, 4]
+
+
+def test_envelope_weights_are_normalized_with_at_most_four_influences():
+    rng = np.random.default_rng(1)
+    points = rng.normal(size=(300, 3))
+    heads = rng.normal(size=(9, 3))
+    tails = heads + rng.normal(size=(9, 3))
+    rows, cols, values = skinning.envelope_weights(points, heads, tails, np.full(9, 0.2),
+                                                   np.full(9, 0.2))
+    rows, cols, values = skinning.normalize_and_prune(rows, cols, values)
+    sums = skinning.weight_sums(rows, values, len(points))
+    assert np.allclose(sums, 1.0)
+    assert np.bincount(rows, minlength=len(points)).max() <= 4
+    assert (values > 0).all() and cols.max() < 9
+
+
+def test_engine_kwargs_undo_blenders_float32_rounding():
+    specs = options.option_specs(dcg.OPTIONS)
+    kwargs = options.engine_kwargs(specs, {"tau": np.float32(0.85), "repair": "none"})
+    assert kwargs == {"tau": 0.85, "repair": "none"}
+    assert dcg.extract_skeleton  # the kwargs are accepted by the engine
+    dcg.normalize_options(kwargs)
+
+
+def test_option_specs_cover_every_engine_option_and_presets_are_valid():
+    specs = options.option_specs(dcg.OPTIONS)
+    assert [s.name for s in specs] == list(dcg.OPTIONS)
+    for preset, _, _ in options.PRESET_ITEMS:
+        values = options.preset_values(specs, preset)
+        dcg.normalize_options(options.engine_kwargs(specs, values))
+
+
+def test_frame_camera_sees_the_whole_box():
+    low, high = np.array([-1.0, -2.0, 0.0]), np.array([1.0, 2.0, 3.0])
+    fov = 0.69
+    location, direction = geometry.frame_camera(low, high, fov)
+    corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
+                        for z in (low[2], high[2])])
+    rays = corners - location
+    angles = np.arccos(rays @ direction / np.linalg.norm(rays, axis=1))
+    assert (angles < fov / 2).all()
+
+
+def test_octahedral_bones_have_six_vertices_and_eight_faces_each():
+    V, F = geometry.octahedral_bones(np.zeros((2, 3)), np.array([[0, 0, 1], [1, 0, 0]]), 0.1)
+    assert V.shape == (12, 3) and F.shape == (16, 3) and F.max() == 11
+
+
+def _sphere():
+    from conftest import uv_sphere
+
+    return uv_sphere()
+
+
+def test_skeleton_job_runs_in_a_thread_and_reports_progress():
+    V, F = _sphere()
+    job = worker.SkeletonJob(dcg, V, F, {}).start()
+    assert job.wait(60)
+    assert job.error is None and not job.cancelled
+    assert len(job.skeleton.positions) > 0 and job.fraction == pytest.approx(1.0)
+
+
+def test_skeleton_job_cancels():
+    V, F = _sphere()
+    job = worker.SkeletonJob(dcg, V, F, {})
+    job.cancel()
+    job.start()
+    assert job.wait(60)
+    assert job.cancelled and job.skeleton is None and job.error is None
