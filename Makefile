@@ -11,7 +11,7 @@ OUT ?= out
 CMAKE_FLAGS ?=
 export DCG_MESHES ?= $(abspath ../shared/meshes)
 
-.PHONY: all deps build rig test addon clean
+.PHONY: all deps build rig test addon bench clean
 
 all: build
 
@@ -41,6 +41,13 @@ addon: build
 	@rm -f $(OUT)/dcg_rig.zip
 	cd $(BUILD)/blender_scripts/addons && $(PYTHON) -m zipfile -c $(abspath $(OUT))/dcg_rig.zip dcg_rig
 	@echo "wrote $(OUT)/dcg_rig.zip"
+
+# Timings of every stage on every mesh of MESHES (folders or files), with CGAL's mean curvature
+# flow skeleton as the baseline: out/bench/report.md (and results.jsonl). Not part of `make test`.
+MESHES ?= ../shared/meshes
+bench: build
+	@cmake --build $(BUILD) --target dcg_bench -j$(JOBS)
+	$(PYTHON) scripts/bench.py --binary $(BUILD)/dcg_bench --out $(OUT)/bench/report.md $(MESHES)
 
 clean:
 	rm -rf $(BUILD) $(OUT)
