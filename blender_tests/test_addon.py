@@ -20,9 +20,10 @@ def test_engine_imports_inside_blender(dcg):
     assert _engine.error() is None
 
 
-@pytest.mark.parametrize("idname", ["rig", "preview", "clear", "preset", "load_mesh"])
-def test_operators_are_registered(idname):
-    assert hasattr(bpy.types, f"DCG_OT_{idname}")
+@pytest.mark.parametrize("name", ["OBJECT_OT_dcg_auto_rig", "OBJECT_OT_dcg_preview",
+                                  "OBJECT_OT_dcg_clear", "DCG_OT_preset", "DCG_OT_load_mesh"])
+def test_operators_are_registered(name):
+    assert hasattr(bpy.types, name)
 
 
 def test_rig_is_in_the_object_animation_menu():
@@ -40,7 +41,7 @@ def test_panel_is_in_the_dcg_sidebar_tab():
 
 
 def test_rig_and_preview_are_undoable():
-    for operator in (bpy.types.DCG_OT_rig, bpy.types.DCG_OT_preview, bpy.types.DCG_OT_clear):
+    for operator in (bpy.types.OBJECT_OT_dcg_auto_rig, bpy.types.OBJECT_OT_dcg_preview, bpy.types.OBJECT_OT_dcg_clear):
         assert "UNDO" in operator.bl_options
 
 
@@ -66,8 +67,8 @@ def test_unregister_and_register_again():
     import addon_utils
 
     addon_utils.disable("dcg_rig", default_set=True)
-    assert not hasattr(bpy.types, "DCG_OT_rig")
+    assert not hasattr(bpy.types, "OBJECT_OT_dcg_auto_rig")
     assert not hasattr(bpy.types.Scene, "dcg_rig")
     addon_utils.enable("dcg_rig", default_set=True, handle_error=None)
-    assert hasattr(bpy.types, "DCG_OT_rig")
+    assert hasattr(bpy.types, "OBJECT_OT_dcg_auto_rig")
     assert hasattr(bpy.types.Scene, "dcg_rig")

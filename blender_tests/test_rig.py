@@ -9,7 +9,7 @@ from conftest import add_mesh, capsule, scene_counts
 
 
 def rig(**kwargs):
-    return bpy.ops.dcg.rig(**kwargs)
+    return bpy.ops.object.dcg_auto_rig(**kwargs)
 
 
 def armatures():
@@ -156,10 +156,10 @@ def test_rig_needs_an_active_mesh():
 
 def test_preview_shows_the_skeleton_and_clear_removes_it():
     add_mesh("capsule", *capsule())
-    assert bpy.ops.dcg.preview() == {"FINISHED"}
+    assert bpy.ops.object.dcg_preview() == {"FINISHED"}
     collection = bpy.data.collections["DCG Preview"]
     assert len(collection.objects) >= 2
-    assert bpy.ops.dcg.clear() == {"FINISHED"}
+    assert bpy.ops.object.dcg_clear() == {"FINISHED"}
     assert bpy.data.collections.get("DCG Preview") is None
 
 

@@ -1,6 +1,6 @@
 """dcg-rig: one-click automatic rigging with the Domain Connected Graph skeleton.
 
-The operator `dcg.rig` (Object > Animation > Rig with DCG, or the sidebar's DCG tab) turns
+The operator `object.dcg_auto_rig` (Object > Animation > Rig with DCG, or the sidebar's DCG tab) turns
 the active mesh into a rigged character: the engine (`dcg`, C++) extracts the skeleton of
 the evaluated mesh in world space, `armature` builds end, joint and connection bones and
 `weights` binds the mesh. `cli.py` does the same headlessly (`make rig`).

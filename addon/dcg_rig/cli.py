@@ -6,7 +6,7 @@
 
 Every engine option is a flag (`--target-faces 20000`); `--help` lists them. `make rig`
 runs this on the bundled Spot. It goes through the add-on's own operators (dcg.load_mesh,
-dcg.rig), so it checks the same path a user clicks. Exit status 0 on success, 1 with an
+object.dcg_auto_rig), so it checks the same path a user clicks. Exit status 0 on success, 1 with an
 "error: ..." line when anything fails, 2 for bad arguments.
 """
 
@@ -94,7 +94,7 @@ def main():
     engine_kwargs = {s.name: getattr(args, s.name) for s in properties.ENGINE_SPECS
                      if getattr(args, s.name) is not None}
     try:
-        bpy.ops.dcg.rig(weights=args.weights, bone_detail=args.bone_detail, **engine_kwargs)
+        bpy.ops.object.dcg_auto_rig(weights=args.weights, bone_detail=args.bone_detail, **engine_kwargs)
     except RuntimeError as error:
         _fail(str(error).strip())
     arm_obj, mesh_obj = _rig_mesh_object()

@@ -1,4 +1,5 @@
-"""The add-on's operators: Rig, Preview, Clear, Preset and Load Mesh File.
+"""The add-on's operators: object.dcg_auto_rig, object.dcg_preview, object.dcg_clear,
+dcg.preset and dcg.load_mesh.
 
 Rig and Preview run the engine. Invoked from the UI they run it on a worker thread
 (`worker.SkeletonJob`) and stay modal: progress in the status bar and on the cursor, Esc
@@ -7,7 +8,7 @@ background mode (`blender -b`) they block. Either way the scene is only changed 
 skeleton exists, and `rigging.apply_rig` undoes its own changes when binding fails, so a
 failed or cancelled run leaves the scene as it was and reports why.
 
-Every engine option and add-on setting is also an operator property (`bpy.ops.dcg.rig(
+Every engine option and add-on setting is also an operator property (`bpy.ops.object.dcg_auto_rig(
 tau=0.9)`); a property that is not set takes the value of the DCG panel (`Scene.dcg_rig`).
 """
 
@@ -185,11 +186,11 @@ def _console_progress(context):
     return progress
 
 
-class DCG_OT_rig(_EngineOperator, bpy.types.Operator):
+class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
     """Rig the active mesh: DCG skeleton, armature with end, joint and connection bones,
     and weights"""
 
-    bl_idname = "dcg.rig"
+    bl_idname = "object.dcg_auto_rig"
     bl_label = "Rig with DCG"
     bl_options = {"REGISTER", "UNDO"}
     __annotations__ = {**properties.engine_annotations({"SKIP_SAVE"}),
@@ -209,11 +210,11 @@ class DCG_OT_rig(_EngineOperator, bpy.types.Operator):
         return {"FINISHED"}
 
 
-class DCG_OT_preview(_EngineOperator, bpy.types.Operator):
+class OBJECT_OT_dcg_preview(_EngineOperator, bpy.types.Operator):
     """Show the DCG skeleton of the active mesh (nodes colored by kind, links) without
     rigging it"""
 
-    bl_idname = "dcg.preview"
+    bl_idname = "object.dcg_preview"
     bl_label = "Preview Skeleton"
     bl_options = {"REGISTER", "UNDO"}
     __annotations__ = properties.engine_annotations({"SKIP_SAVE"})
@@ -226,10 +227,10 @@ class DCG_OT_preview(_EngineOperator, bpy.types.Operator):
         return {"FINISHED"}
 
 
-class DCG_OT_clear(bpy.types.Operator):
+class OBJECT_OT_dcg_clear(bpy.types.Operator):
     """Remove the DCG rigs of the active mesh (armature, weights, modifier) and the preview"""
 
-    bl_idname = "dcg.clear"
+    bl_idname = "object.dcg_clear"
     bl_label = "Clear DCG Rig"
     bl_options = {"REGISTER", "UNDO"}
 
@@ -294,4 +295,5 @@ class DCG_OT_load_mesh(bpy.types.Operator, ImportHelper):
         return {"FINISHED"}
 
 
-CLASSES = (DCG_OT_rig, DCG_OT_preview, DCG_OT_clear, DCG_OT_preset, DCG_OT_load_mesh)
+CLASSES = (OBJECT_OT_dcg_auto_rig, OBJECT_OT_dcg_preview, OBJECT_OT_dcg_clear, DCG_OT_preset,
+           DCG_OT_load_mesh)

@@ -53,10 +53,10 @@ class VIEW3D_PT_dcg_rig(bpy.types.Panel):
         col.prop(settings, "bone_detail", slider=True)
         row = layout.row()
         row.scale_y = 1.5
-        row.operator("dcg.rig", icon="ARMATURE_DATA")
+        row.operator("object.dcg_auto_rig", icon="ARMATURE_DATA")
         row = layout.row(align=True)
-        row.operator("dcg.preview", icon="HIDE_OFF")
-        row.operator("dcg.clear", icon="X", text="Clear")
+        row.operator("object.dcg_preview", icon="HIDE_OFF")
+        row.operator("object.dcg_clear", icon="X", text="Clear")
         layout.operator("dcg.load_mesh", icon="FILEBROWSER")
         if obj is not None and obj.type == "MESH":
             self._draw_last_rig(layout, obj)
@@ -105,7 +105,7 @@ class VIEW3D_PT_dcg_rig_advanced(bpy.types.Panel):
 def menu_entry(self, context):
     """Object > Animation: the Rig operator."""
     self.layout.separator()
-    self.layout.operator("dcg.rig", icon="ARMATURE_DATA")
+    self.layout.operator("object.dcg_auto_rig", icon="ARMATURE_DATA")
 
 
 CLASSES = (VIEW3D_PT_dcg_rig, VIEW3D_PT_dcg_rig_advanced)
