@@ -24,12 +24,12 @@ build: deps
 	  -DPython_EXECUTABLE=$(PYTHON) $(CMAKE_FLAGS)
 	@cmake --build $(BUILD) -j$(JOBS)
 
-# Rig MESH (default: the bundled Spot) headlessly: out/<model>.blend, .glb and .png.
+# Rig MESH (default: the bundled Spot) headlessly: out/<model>.blend, .glb, .fbx and .png.
 rig: build
 	@mkdir -p $(OUT)
 	DCG_PYTHONPATH=$(abspath $(BUILD))/python $(BLENDER) -b --factory-startup \
 	  --python addon/dcg_rig/cli.py -- $(MESH) -o $(OUT)/$(MODEL).blend \
-	  --glb $(OUT)/$(MODEL).glb --png $(OUT)/$(MODEL).png
+	  --glb $(OUT)/$(MODEL).glb --fbx $(OUT)/$(MODEL).fbx --png $(OUT)/$(MODEL).png
 
 # Every suite (ctest, pytest, Blender); one closing line "N passed, N failed, N skipped".
 test: build

@@ -47,19 +47,75 @@ def test_cli_reports_bad_files_with_exit_status_1(repo, bad_files, case):
     assert "error:" in result.stderr and bad_files[case].name in result.stderr
 
 
-def test_cli_writes_blend_glb_and_png(repo, tmp_path):
-    result = run_cli(repo, repo / "data" / "meshes" / "eight.off", "-o", tmp_path / "e.blend",
-                     "--glb", tmp_path / "e.glb", "--png", tmp_path / "e.png",
+@pytest.fixture(scope="module")
+def cli_outputs(repo, tmp_path_factory):
+    """Run the CLI once on hand.obj (spot.obj without the public meshes) with every output."""
+    import os
+
+    meshes = os.environ.get("DCG_MESHES", "")
+    source = os.path.join(meshes, "hand.obj")
+    if not os.path.isfile(source):
+        source = repo / "data" / "spot.obj"
+    folder = tmp_path_factory.mktemp("cli")
+    result = run_cli(repo, source, "-o", folder / "r.blend", "--glb", folder / "r.glb",
+                     "--fbx", folder / "r.fbx", "--png", folder / "r.png",
                      "--resolution", 320, 240, "--weights", "ENVELOPE")
     assert result.returncode == 0, result.stdout + result.stderr
-    assert (tmp_path / "e.glb").read_bytes()[:4] == b"glTF"
-    assert (tmp_path / "e.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert (tmp_path / "e.blend").stat().st_size > 0
-    image = bpy.data.images.load(str(tmp_path / "e.png"))
+    with bpy.data.libraries.load(str(folder / "r.blend")) as (source_data, _):
+        pass
+    return folder
+
+
+def saved_bone_count(blend):
+    """The bone count of the DCG rig saved in `blend`, read with a library load."""
+    with bpy.data.libraries.load(str(blend)) as (source, target):
+        target.armatures = [n for n in source.armatures if "DCG Rig" in n]
+    (armature,) = target.armatures
+    count = len(armature.bones)
+    bpy.data.armatures.remove(armature)
+    return count
+
+
+def test_cli_writes_blend_glb_fbx_and_png(cli_outputs):
+    assert (cli_outputs / "r.glb").read_bytes()[:4] == b"glTF"
+    assert (cli_outputs / "r.fbx").read_bytes()[:18] == b"Kaydara FBX Binary"
+    assert (cli_outputs / "r.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    image = bpy.data.images.load(str(cli_outputs / "r.png"))
     try:
         assert tuple(image.size) == (320, 240)
     finally:
         bpy.data.images.remove(image)
-    # The saved scene holds the rig.
-    with bpy.data.libraries.load(str(tmp_path / "e.blend")) as (source, _):
-        assert any("DCG Rig" in name for name in source.armatures)
+    assert saved_bone_count(cli_outputs / "r.blend") > 0
+
+
+@pytest.mark.parametrize("name", ["r.glb", "r.fbx"])
+def test_exported_files_reimport_as_a_skinned_mesh_with_the_same_bones(cli_outputs, name):
+    path = str(cli_outputs / name)
+    if name.endswith(".glb"):
+        from dcg_rig import importing
+
+        importing.ensure_numpy_bool_alias()  # Blender 3.4's glTF importer with numpy 1.24
+        bpy.ops.import_scene.gltf(filepath=path)
+    else:
+        bpy.ops.import_scene.fbx(filepath=path)
+    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    meshes = [o for o in bpy.data.objects if o.type == "MESH"]
+    assert len(arm.data.bones) == saved_bone_count(cli_outputs / "r.blend")
+    skinned = [m for m in meshes if any(md.type == "ARMATURE" and md.object == arm
+                                        for md in m.modifiers)]
+    assert skinned and len(skinned[0].vertex_groups) > 0
+
+
+def test_cli_rigs_a_gltf_file_replacing_the_rig_it_holds(repo, cli_outputs, tmp_path):
+    result = run_cli(repo, cli_outputs / "r.glb", "-o", tmp_path / "again.blend",
+                     "--weights", "ENVELOPE")
+    assert result.returncode == 0, result.stdout + result.stderr
+    with bpy.data.libraries.load(str(tmp_path / "again.blend")) as (source, _):
+        assert len(source.armatures) == 1
+
+
+def test_cli_rejects_unknown_formats(repo, tmp_path):
+    path = tmp_path / "model.xyz"
+    path.write_text("1 2 3\n")
+    result = run_cli(repo, path)
+    assert result.returncode == 1 and "unknown format" in result.stderr

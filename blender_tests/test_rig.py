@@ -176,3 +176,17 @@ def test_rig_uses_the_world_space_evaluated_mesh(dcg):
     points = np.vstack([heads, tails])
     assert points[:, 0].min() > 5.0 - 3 * 0.35 and points[:, 0].max() < 5.0 + 3 * 0.35
     assert points[:, 2].min() > -3 * 1.35 and points[:, 2].max() < 3 * 1.35
+
+
+def test_undo_after_rigging_leaves_no_armature_modifier_or_groups():
+    add_mesh("capsule", *capsule())
+    bpy.ops.ed.undo_push(message="before rigging")
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    # Operators called from a script push no undo step of their own; the UI pushes one
+    # named after the operator when an UNDO operator finishes. Do what the UI does.
+    bpy.ops.ed.undo_push(message="Rig with DCG")
+    assert armatures()
+    bpy.ops.ed.undo()
+    obj = bpy.data.objects["capsule"]  # undo re-creates the ID blocks: look it up again
+    assert not armatures() and len(bpy.data.armatures) == 0
+    assert not obj.modifiers and not obj.vertex_groups and obj.parent is None

@@ -1,7 +1,7 @@
 """Headless rigging: load a mesh file, rig it, save .blend / .glb / .png.
 
     blender -b --factory-startup --python addon/dcg_rig/cli.py -- MESH \\
-        [-o OUT.blend] [--glb OUT.glb] [--png OUT.png] [--up auto|y|z] \\
+        [-o OUT.blend] [--glb OUT.glb] [--fbx OUT.fbx] [--png OUT.png] [--up auto|y|z] \\
         [--weights DCG|BLENDER|ENVELOPE|NONE] [--bone-detail 0.5] [--tau 0.85 ...]
 
 Every engine option is a flag (`--target-faces 20000`); `--help` lists them. `make rig`
@@ -39,13 +39,15 @@ def _parser(engine_specs, addon_options):
     parser = argparse.ArgumentParser(
         prog="blender -b --python addon/dcg_rig/cli.py --",
         description="Rig a mesh file with the DCG skeleton and save the result.")
-    parser.add_argument("mesh", help="OBJ, OFF, PLY or STL file")
+    parser.add_argument("mesh", help="OBJ, OFF, PLY, STL, FBX, glTF (.glb/.gltf) file")
     parser.add_argument("-o", "--output", help="write the rigged scene to this .blend file")
     parser.add_argument("--glb", help="export the rigged mesh and armature as glTF binary")
+    parser.add_argument("--fbx", help="export the rigged mesh and armature as FBX")
     parser.add_argument("--png", help="render a picture of the rig (mesh in x-ray, bones "
                                       "colored by kind: end red, joint purple, connection blue)")
     parser.add_argument("--up", choices=("auto", "y", "z"), default="auto",
-                        help="the file's up axis (auto: y for OBJ, z otherwise)")
+                        help="the file's up axis (auto: y for OBJ, z for OFF/PLY/STL; "
+                             "FBX and glTF carry their own)")
     parser.add_argument("--resolution", type=int, nargs=2, default=(960, 720),
                         metavar=("W", "H"), help="picture size in pixels")
     parser.add_argument("--weights", choices=[m[0] for m in addon_options.WEIGHT_METHODS],
@@ -80,7 +82,8 @@ def main():
     # Start from an empty scene (the factory one has a cube, a camera and a light).
     bpy.ops.wm.read_factory_settings(use_empty=True)
     _load_addon()
-    from dcg_rig import _engine, options, picture, properties
+    from dcg_rig import _engine, importing, options, picture, properties
+    from dcg_rig.rigging import RigError
 
     if _engine.error() is not None:
         _fail(_engine.error())
@@ -88,8 +91,8 @@ def main():
     started = time.perf_counter()
     mesh_path = os.path.abspath(args.mesh)
     try:
-        bpy.ops.dcg.load_mesh(filepath=mesh_path, up_axis=args.up.upper())
-    except RuntimeError as error:  # the operator's error report
+        importing.import_mesh_file(bpy.context, mesh_path, args.up.upper())
+    except (RigError, OSError, ValueError) as error:
         _fail(str(error).strip())
     engine_kwargs = {s.name: getattr(args, s.name) for s in properties.ENGINE_SPECS
                      if getattr(args, s.name) is not None}
@@ -102,7 +105,7 @@ def main():
         _fail("the rig operator finished without an armature bound to the mesh")
     print(f"dcg: {mesh_obj.name}: {len(arm_obj.data.bones)} bones "
           f"({', '.join(f'{k} {v:.3f} s' for k, v in arm_obj['dcg_timings'].items())})")
-    for path in (args.output, args.glb, args.png):
+    for path in (args.output, args.glb, args.fbx, args.png):
         if path:
             os.makedirs(os.path.dirname(os.path.abspath(path)) or ".", exist_ok=True)
     if args.output:
@@ -112,6 +115,10 @@ def main():
         bpy.ops.export_scene.gltf(filepath=os.path.abspath(args.glb), export_format="GLB",
                                   export_skins=True, export_animations=False)
         print(f"dcg: wrote {args.glb}")
+    if args.fbx:
+        bpy.ops.export_scene.fbx(filepath=os.path.abspath(args.fbx), add_leaf_bones=False,
+                                 bake_anim=False, object_types={"ARMATURE", "MESH"})
+        print(f"dcg: wrote {args.fbx}")
     if args.png:
         picture.render_rig_picture(bpy.context, args.png, arm_obj, mesh_obj,
                                    tuple(args.resolution))
@@ -120,4 +127,10 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except Exception as error:  # anything unexpected still ends with status 1
+        import traceback
+
+        traceback.print_exc()
+        _fail(f"{type(error).__name__}: {error}")
