@@ -38,9 +38,7 @@ test: build
 # The installable add-on with the compiled module: out/dcg_rig.zip.
 addon: build
 	@mkdir -p $(OUT)
-	@rm -f $(OUT)/dcg_rig.zip
-	cd $(BUILD)/blender_scripts/addons && $(PYTHON) -m zipfile -c $(abspath $(OUT))/dcg_rig.zip dcg_rig
-	@echo "wrote $(OUT)/dcg_rig.zip"
+	@$(PYTHON) scripts/make_addon_zip.py $(BUILD)/blender_scripts/addons/dcg_rig $(OUT)/dcg_rig.zip
 
 # Timings of every stage on every mesh of MESHES (folders or files), with CGAL's mean curvature
 # flow skeleton as the baseline: out/bench/report.md (and results.jsonl). Not part of `make test`.
