@@ -158,7 +158,11 @@ def test_preview_shows_the_skeleton_and_clear_removes_it():
     add_mesh("capsule", *capsule())
     assert bpy.ops.object.dcg_preview() == {"FINISHED"}
     collection = bpy.data.collections["DCG Preview"]
-    assert len(collection.objects) >= 2
+    names = {o.name for o in collection.objects}
+    assert {"DCG domain balls", "DCG links"} <= names
+    assert any(name.startswith("DCG end") for name in names)
+    balls = bpy.data.objects["DCG domain balls"]
+    assert balls.display_type == "WIRE" and len(balls.data.vertices) > 0
     assert bpy.ops.object.dcg_clear() == {"FINISHED"}
     assert bpy.data.collections.get("DCG Preview") is None
 

@@ -73,8 +73,8 @@ class _EngineOperator:
         try:
             engine = _engine.require()
             V, F = rigging.object_mesh(context, mesh_obj)
-            skeleton = engine.extract_skeleton(V, F, progress=_console_progress(context),
-                                               **self.engine_options(values))
+            skeleton = self.compute(engine)(V, F, progress=_console_progress(context),
+                                            **self.engine_options(values))
         except Exception as error:  # reported, never raised into Blender
             return self.fail(error)
         finally:
@@ -98,7 +98,7 @@ class _EngineOperator:
         self._values = values
         self._mesh_name = mesh_obj.name
         self._started = time.perf_counter()
-        self._job = worker.SkeletonJob(engine, V, F, kwargs).start()
+        self._job = worker.SkeletonJob(engine, V, F, kwargs, self.compute(engine)).start()
         _EngineOperator._running = True
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
@@ -149,6 +149,11 @@ class _EngineOperator:
         wm.progress_end()
         if context.workspace is not None:
             context.workspace.status_text_set(None)
+
+    def compute(self, engine):
+        """Return the engine call, `f(V, F, progress=..., **options)`, whose result
+        `finish` receives."""
+        return engine.extract_skeleton
 
     def finish_checked(self, context, mesh_obj, skeleton, values):
         """Run `finish`, turning any exception into an error report."""
@@ -211,16 +216,24 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
 
 
 class OBJECT_OT_dcg_preview(_EngineOperator, bpy.types.Operator):
-    """Show the DCG skeleton of the active mesh (nodes colored by kind, links) without
-    rigging it"""
+    """Show the stages of the active mesh's DCG skeleton without rigging it: domain balls,
+    prongs, and the skeleton's nodes (colored by kind) and links"""
 
     bl_idname = "object.dcg_preview"
     bl_label = "Preview Skeleton"
     bl_options = {"REGISTER", "UNDO"}
     __annotations__ = properties.engine_annotations({"SKIP_SAVE"})
 
-    def finish(self, context, mesh_obj, skeleton, values):
-        preview.build_preview(context, skeleton)
+    def compute(self, engine):
+        def run(V, F, progress=None, **options):
+            extractor = engine.Extractor(V, F, progress, **options)
+            extractor.skeleton()
+            return extractor
+        return run
+
+    def finish(self, context, mesh_obj, extractor, values):
+        skeleton = extractor.skeleton()
+        preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
         self.report({"INFO"}, f"DCG: {len(skeleton.positions)} nodes "
                               f"({_kind_counts(skeleton.kinds)}), {len(skeleton.links)} links "
                               f"in {self.elapsed:.2f} s")

@@ -64,11 +64,37 @@ def node_sizes(skeleton, fraction=0.35):
                    0.02 * size)
 
 
-def build_preview(context, skeleton):
-    """Replace the preview collection by the nodes and links of `skeleton` (world space)."""
+def stage_geometry(extractor):
+    """Return {"domain balls": (centers, radii), "prongs": (positions, radii)} in the input's
+    coordinates from an Extractor that has run (stages it lacks are left out)."""
+    prepared = extractor.prepare()
+    scale, offset = float(prepared.scale), np.asarray(prepared.offset, dtype=float)
+    balls = extractor.domain_balls()
+    result = {"domain balls": (balls.centers * scale + offset, balls.radii * scale)}
+    if hasattr(extractor, "prongs"):
+        prongs = extractor.prongs()
+        size = np.full(len(prongs.positions), 0.012 * scale)
+        result["prongs"] = (prongs.positions * scale + offset, size)
+    return result
+
+
+def build_preview(context, skeleton, stages=None):
+    """Replace the preview collection by the nodes and links of `skeleton` (world space) and
+    the intermediate `stages` (see `stage_geometry`): domain balls drawn as wireframes,
+    prong peaks as red spheres."""
     clear_preview()
     collection = bpy.data.collections.new(COLLECTION_NAME)
     context.scene.collection.children.link(collection)
+    for name, (centers, radii) in (stages or {}).items():
+        if len(centers) == 0:
+            continue
+        V, F = geometry.spheres(centers, radii)
+        material = kind_material("end") if name == "prongs" else None
+        obj = add_mesh_object(f"DCG {name}", V, F, collection, material)
+        if name == "domain balls":
+            obj.display_type = "WIRE"
+            obj.hide_render = True
+        obj.show_in_front = True
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     kinds = np.asarray([str(k) for k in skeleton.kinds])
     sizes = node_sizes(skeleton)

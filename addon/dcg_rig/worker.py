@@ -8,20 +8,21 @@ import threading
 
 
 class SkeletonJob:
-    """One `extract_skeleton` call on a daemon thread.
+    """One `extract_skeleton` call (or `compute`, called the same way) on a daemon thread.
 
     Read `stage` and `fraction` for progress, call `cancel()` to stop it at the engine's
     next check, and once `done()` read `skeleton`, or `error` (an exception; a cancelled
     run leaves `cancelled` True instead).
     """
 
-    def __init__(self, engine, vertices, faces, options):
+    def __init__(self, engine, vertices, faces, options, compute=None):
         self.stage = "starting"
         self.fraction = 0.0
         self.skeleton = None
         self.error = None
         self.cancelled = False
         self._engine = engine
+        self._compute = compute or engine.extract_skeleton
         self._cancel = threading.Event()
         self._thread = threading.Thread(target=self._run, args=(vertices, faces, options),
                                         name="dcg-skeleton", daemon=True)
@@ -50,8 +51,7 @@ class SkeletonJob:
 
     def _run(self, vertices, faces, options):
         try:
-            self.skeleton = self._engine.extract_skeleton(vertices, faces,
-                                                          progress=self._progress, **options)
+            self.skeleton = self._compute(vertices, faces, progress=self._progress, **options)
         except self._engine.Cancelled:
             self.cancelled = True
         except Exception as exc:  # reported to the user by the operator
