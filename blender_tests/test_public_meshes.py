@@ -1,0 +1,92 @@
+"""Rigging real meshes (octopus-low and hand from DCG_MESHES, the bundled spot): the armature
+is exactly the skeleton's bone plan, and every bone lies inside the mesh."""
+
+import os
+from pathlib import Path
+
+import bpy
+import numpy as np
+import pytest
+from mathutils import Vector
+from mathutils.bvhtree import BVHTree
+
+from conftest import REPO
+
+MESHES = {
+    "octopus-low.obj": Path(os.environ.get("DCG_MESHES", "")) / "octopus-low.obj",
+    "hand.obj": Path(os.environ.get("DCG_MESHES", "")) / "hand.obj",
+    "spot.obj": REPO / "data" / "spot.obj",
+}
+DIRECTIONS = [Vector(d).normalized() for d in ((0.31, 0.52, 0.79), (-0.64, 0.27, -0.72),
+                                                (0.12, -0.95, 0.28))]
+
+
+def inside(tree, point, size):
+    """True when `point` is inside the closed mesh of `tree`: ray parity, majority of 3."""
+    votes = 0
+    for direction in DIRECTIONS:
+        crossings, origin = 0, Vector(point)
+        while True:
+            hit, _, _, _ = tree.ray_cast(origin, direction, 10.0 * size)
+            if hit is None:
+                break
+            crossings += 1
+            origin = hit + direction * (1e-7 * size)
+        votes += crossings % 2
+    return votes >= 2
+
+
+@pytest.fixture(params=list(MESHES))
+def rigged(request, dcg):
+    path = MESHES[request.param]
+    if not path.is_file():
+        pytest.skip(f"{path} not found (set DCG_MESHES)")
+    bpy.ops.dcg.load_mesh(filepath=str(path))
+    mesh_obj = bpy.context.active_object
+    assert bpy.ops.object.dcg_auto_rig(weights="ENVELOPE") == {"FINISHED"}
+    return mesh_obj
+
+
+def test_the_armature_is_the_skeletons_bone_plan(rigged, dcg):
+    from dcg_rig import bones, mesh_io, properties
+
+    arms = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    assert len(arms) == 1
+    rigged.modifiers["DCG Rig"].show_viewport = False  # the mesh the operator saw
+    V, F = mesh_io.evaluated_world_mesh(bpy.context, rigged)
+    skeleton = dcg.extract_skeleton(V, F)  # same mesh, same default options: same skeleton
+    settings = properties.settings(bpy.context)
+    plan = bones.plan_bones(skeleton, settings.bone_detail)
+    armature_bones = arms[0].data.bones
+    assert len(armature_bones) == len(plan)
+    for spec in plan:
+        bone = armature_bones[spec.name]
+        assert bone["dcg_kind"] == spec.kind
+        if spec.node >= 0:  # a bone ending at a node has the node's kind
+            assert spec.kind == str(skeleton.kinds[spec.node])
+
+
+def test_every_bone_lies_inside_the_mesh(rigged):
+    from dcg_rig import armature
+
+    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    rigged.modifiers["DCG Rig"].show_viewport = False  # the rest shape, not a pose
+    tree = BVHTree.FromObject(rigged, depsgraph)
+    matrix = rigged.matrix_world
+    heads, tails = armature.bone_world_segments(arm)
+    to_local = np.array(matrix.inverted())
+    size = max(rigged.dimensions)
+    outside = []
+    for head, tail in zip(heads, tails):
+        for t in np.linspace(0.0, 1.0, 5):
+            point = head + t * (tail - head)
+            local = to_local[:3, :3] @ point + to_local[:3, 3]
+            if not inside(tree, local, size):
+                outside.append(point)
+    message = f"{len(outside)} of {5 * len(heads)} bone samples outside the mesh"
+    if outside and arm.get("dcg_method") == "interim_graph":
+        # The stand-in skeleton (minimum spanning tree of the domain points) may cut corners;
+        # the real one (engine part 2) must pass. Reported as an expected failure, not a pass.
+        pytest.xfail(f"interim skeleton: {message}")
+    assert not outside, message
