@@ -72,6 +72,7 @@ class _EngineOperator:
         started = time.perf_counter()
         try:
             engine = _engine.require()
+            self.check(mesh_obj)
             V, F = rigging.object_mesh(context, mesh_obj)
             skeleton = self.compute(engine)(V, F, progress=_console_progress(context),
                                             **self.engine_options(values))
@@ -90,6 +91,7 @@ class _EngineOperator:
         mesh_obj = context.active_object
         try:
             engine = _engine.require()
+            self.check(mesh_obj)
             V, F = rigging.object_mesh(context, mesh_obj)
             kwargs = self.engine_options(values)
             engine.normalize_options(kwargs)  # bad values fail here, not in the thread
@@ -150,6 +152,10 @@ class _EngineOperator:
         if context.workspace is not None:
             context.workspace.status_text_set(None)
 
+    def check(self, mesh_obj):
+        """Raise RigError when the operator cannot work on `mesh_obj` (before any engine
+        work)."""
+
     def compute(self, engine):
         """Return the engine call, `f(V, F, progress=..., **options)`, whose result
         `finish` receives."""
@@ -200,6 +206,9 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
     __annotations__ = {**properties.engine_annotations({"SKIP_SAVE"}),
                        **properties.addon_annotations({"SKIP_SAVE"})}
+
+    def check(self, mesh_obj):
+        rigging.check_riggable(mesh_obj)
 
     def finish(self, context, mesh_obj, skeleton, values):
         result = rigging.apply_rig(context, mesh_obj, skeleton, values["weights"],

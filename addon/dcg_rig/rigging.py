@@ -10,6 +10,8 @@ touches the scene, so an error leaves the scene as it was.
 
 from dataclasses import dataclass, field
 
+import bpy
+
 from . import _engine, armature, bones, mesh_io, preview, weights
 
 
@@ -35,6 +37,30 @@ def object_mesh(context, obj):
         raise RigError(f"{obj.name} has {len(V)} vertices and {len(F)} triangles after its "
                        "modifiers: the engine needs at least 4 of each")
     return V, F
+
+
+def check_riggable(obj):
+    """Raise RigError when rigging `obj` would change other objects: its mesh data is shared
+    (vertex group weights live in the mesh, so every user would be rigged)."""
+    users = [o.name for o in bpy.data.objects if o.data == obj.data and o != obj]
+    if users:
+        raise RigError(f"{obj.name} shares its mesh data with {', '.join(sorted(users))}: "
+                       "make it single-user first (Object > Relations > Make Single User > "
+                       "Object & Data)")
+
+
+def disable_foreign_armatures(mesh_obj, arm_obj):
+    """Turn off the Armature modifiers of `mesh_obj` that use another armature than
+    `arm_obj` (they would deform the mesh a second time); return a warning per modifier."""
+    warnings = []
+    for modifier in mesh_obj.modifiers:
+        if modifier.type == "ARMATURE" and modifier.object != arm_obj and (
+                modifier.show_viewport or modifier.show_render):
+            modifier.show_viewport = modifier.show_render = False
+            owner = modifier.object.name if modifier.object else "no armature"
+            warnings.append(f"turned off the Armature modifier '{modifier.name}' ({owner}) "
+                            "so the mesh is not deformed twice")
+    return warnings
 
 
 def extract(context, obj, options, progress=None):
@@ -73,4 +99,5 @@ def apply_rig(context, mesh_obj, skeleton, weight_method="BLENDER", bone_detail=
     for old in old_rigs:
         armature.remove_armature(old)
     preview.clear_preview()
+    warnings += disable_foreign_armatures(mesh_obj, arm_obj)
     return RigResult(arm_obj, len(plan), warnings)
