@@ -56,6 +56,18 @@ def label(name):
     return name.replace("_", " ").title()
 
 
+UNIT_NOTES = {
+    "normalized length": "in normalized units: a fraction of the mesh's bounding-box diagonal",
+}
+
+
+def _tooltip(info):
+    """Return the option's description with its unit spelled out (Blender shows it as the
+    tooltip)."""
+    unit = getattr(info, "unit", "")
+    return f"{info.description} ({UNIT_NOTES.get(unit, unit)})" if unit else info.description
+
+
 def option_specs(engine_options):
     """Return a list of OptionSpec from `dcg.OPTIONS` (a dict name -> OptionInfo), in order."""
     specs = []
@@ -73,10 +85,10 @@ def option_specs(engine_options):
             raise TypeError(f"engine option {name} is a bool, which the add-on does not know")
         elif isinstance(default, int):
             specs.append(OptionSpec(name, "int", default, info.minimum, info.maximum,
-                                    info.description))
+                                    _tooltip(info)))
         else:
             specs.append(OptionSpec(name, "float", float(default), info.minimum, info.maximum,
-                                    info.description))
+                                    _tooltip(info)))
     return specs
 
 
