@@ -5,9 +5,14 @@
 // Choices made here (the docs leave them open):
 // - Normalization: offset = bounding-box center, scale = bounding-box diagonal, so the working
 //   mesh is centered at the origin with diagonal 1 (input = working * scale + offset).
-// - Welding: vertices within weld_tolerance (normalized) of an earlier kept vertex merge into it
-//   (uniform grid of that cell size, 27 neighbouring cells); unreferenced vertices are dropped
+// - Welding closes cracks: only vertices on border edges of the input (edges with one face, by
+//   index) are welded, each into an earlier border vertex within weld_tolerance (normalized;
+//   uniform grid of that cell size, 27 neighbouring cells). Vertices inside the surface are never
+//   welded: two distinct vertices that happen to coincide on a closed mesh (cow.off, dino.off)
+//   would otherwise pinch it into a non-manifold one and force a needless repair. A triangle
+//   soup (STL) has only border edges, so all of it is welded. Unreferenced vertices are dropped
 //   from the working mesh (they still get a map entry).
+// - Flat input (every vertex within 1e-9 of one plane, normalized) encloses nothing: InputError.
 // - Degenerate faces: a repeated index after welding, or zero area (twice the area below
 //   1e-16 in normalized units, i.e. round-off). Duplicate faces: the same three vertices in any
 //   order (a second, reversed copy of a face is a zero-volume double wall).
@@ -34,6 +39,9 @@
 #include <unordered_set>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
+
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "dcg/errors.h"
@@ -391,8 +399,42 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
   out.offset = 0.5 * (lo + hi);
   Vertices Vn = (V_in.rowwise() - out.offset) / diag;
 
-  // Weld.
+  // Flat input: every vertex within 1e-9 of the plane of least extent (normalized units).
+  {
+    const Eigen::RowVector3d mean = Vn.colwise().mean();
+    const Eigen::Matrix3d cov = (Vn.rowwise() - mean).transpose() * (Vn.rowwise() - mean);
+    const Eigen::Vector3d normal = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
+    if (((Vn.rowwise() - mean) * normal).cwiseAbs().maxCoeff() < 1e-9) {
+      throw InputError("the mesh is flat: all its vertices lie in one plane, so it encloses no "
+                       "volume");
+    }
+  }
+
+  // Border vertices (on an edge with one face, by index): the only ones that get welded.
   const int nv = static_cast<int>(Vn.rows());
+  std::vector<char> on_border(nv, 0);
+  {
+    std::vector<std::uint64_t> keys;
+    keys.reserve(F_in.rows() * 3);
+    for (Eigen::Index f = 0; f < F_in.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        const int a = F_in(f, k), b = F_in(f, (k + 1) % 3);
+        if (a != b) keys.push_back(edge_key(a, b));
+      }
+    }
+    std::sort(keys.begin(), keys.end());
+    for (std::size_t i = 0; i < keys.size();) {
+      std::size_t j = i + 1;
+      while (j < keys.size() && keys[j] == keys[i]) ++j;
+      if (j - i == 1) {
+        on_border[keys[i] >> 32] = 1;
+        on_border[keys[i] & 0xffffffffu] = 1;
+      }
+      i = j;
+    }
+  }
+
+  // Weld.
   std::vector<int> rep_of(nv);
   {
     const double tol = options.weld_tolerance;
@@ -405,6 +447,8 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
                                          static_cast<std::int64_t>(std::floor(Vn(i, 2) / cell))};
     };
     for (int i = 0; i < nv; ++i) {
+      rep_of[i] = i;
+      if (!on_border[i]) continue;
       const auto c = cell_of(i);
       int found = -1;
       if (tol > 0) {
@@ -434,7 +478,6 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
         rep_of[i] = found;
         ++rep.welded_vertices;
       } else {
-        rep_of[i] = i;
         grid[c].push_back(i);
       }
     }
@@ -472,8 +515,8 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
   }
   // Compact: keep referenced vertices only.
   Mesh clean;
+  std::vector<int> index(nv, -1);  // input (welded) vertex -> clean vertex, -1 if unreferenced
   {
-    std::vector<int> index(nv, -1);
     int n = 0;
     for (auto& t : faces)
       for (int& v : t)
@@ -488,6 +531,7 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
 
   const Topology topo = analyze(clean.V, clean.F, true);
   rep.border_edges = topo.border_edges;
+  rep.border_loops = topo.border_loops;
   rep.non_manifold_edges = topo.non_manifold_edges;
   rep.non_manifold_vertices = topo.non_manifold_vertices;
   rep.components = topo.components;
@@ -521,28 +565,48 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
   }
   out.genus = mesh_genus(out.working);
 
-  // Map every input vertex to its closest point on the working mesh.
+  // Map every input vertex to the working mesh: onto its own corner when the working mesh is the
+  // cleaned input, else to its closest point (in parallel, on the shared SurfaceQuery).
+  out.query = std::make_shared<const SurfaceQuery>(out.working);
   {
-    SurfaceQuery query(out.working);
+    const auto& W = out.working;
     out.map_face.resize(nv);
     out.map_barycentric.resize(nv, 3);
-    const auto& W = out.working;
-    tbb::parallel_for(0, nv, [&](int i) {
-      int f = 0;
-      const Eigen::Vector3d q = query.closest_point(Vn.row(i).transpose(), &f);
-      const Eigen::Vector3d a = W.V.row(W.F(f, 0)), b = W.V.row(W.F(f, 1)), c = W.V.row(W.F(f, 2));
-      const Eigen::Vector3d n = (b - a).cross(c - a);
-      const double n2 = n.squaredNorm();
-      Eigen::Vector3d l(1.0 / 3, 1.0 / 3, 1.0 / 3);
-      if (n2 > 0) {
-        l[0] = (c - b).cross(q - b).dot(n) / n2;
-        l[1] = (a - c).cross(q - c).dot(n) / n2;
-        l[0] = std::clamp(l[0], 0.0, 1.0);
-        l[1] = std::clamp(l[1], 0.0, 1.0 - l[0]);
-        l[2] = 1.0 - l[0] - l[1];
+    const bool same = !out.repaired && !out.remeshed;
+    std::vector<int> corner_face;  // clean vertex -> (face * 3 + corner) of one face using it
+    if (same) {
+      corner_face.assign(W.V.rows(), -1);
+      for (int f = 0; f < W.F.rows(); ++f)
+        for (int k = 0; k < 3; ++k)
+          if (corner_face[W.F(f, k)] < 0) corner_face[W.F(f, k)] = 3 * f + k;
+    }
+    const SurfaceQuery& query = *out.query;
+    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 1024), [&](const tbb::blocked_range<int>& r) {
+      for (int i = r.begin(); i != r.end(); ++i) {
+        const int c = same ? index[rep_of[i]] : -1;
+        if (c >= 0) {
+          out.map_face[i] = corner_face[c] / 3;
+          out.map_barycentric.row(i).setZero();
+          out.map_barycentric(i, corner_face[c] % 3) = 1.0;
+          continue;
+        }
+        int f = 0;
+        const Eigen::Vector3d q = query.closest_point(Vn.row(i).transpose(), &f);
+        const Eigen::Vector3d a = W.V.row(W.F(f, 0)), b = W.V.row(W.F(f, 1)),
+                              cc = W.V.row(W.F(f, 2));
+        const Eigen::Vector3d n = (b - a).cross(cc - a);
+        const double n2 = n.squaredNorm();
+        Eigen::Vector3d l(1.0 / 3, 1.0 / 3, 1.0 / 3);
+        if (n2 > 0) {
+          l[0] = (cc - b).cross(q - b).dot(n) / n2;
+          l[1] = (a - cc).cross(q - cc).dot(n) / n2;
+          l[0] = std::clamp(l[0], 0.0, 1.0);
+          l[1] = std::clamp(l[1], 0.0, 1.0 - l[0]);
+          l[2] = 1.0 - l[0] - l[1];
+        }
+        out.map_face[i] = f;
+        out.map_barycentric.row(i) = l.transpose();
       }
-      out.map_face[i] = f;
-      out.map_barycentric.row(i) = l.transpose();
     });
   }
   return out;

@@ -2,9 +2,13 @@
 //
 // Target edge length L from the area A: target_faces equilateral triangles of side L cover A,
 // so L = sqrt(4 A / (sqrt(3) target_faces)). When the mesh has more than twice the target, it
-// is first decimated by edge collapse (Garland-Heckbert-like Lindstrom-Turk placement) to about
-// the target: isotropic remeshing alone takes many more iterations to coarsen by large factors.
-// Then a few isotropic remeshing iterations make the triangles uniform.
+// is first decimated by edge collapse to about the target (CGAL's stop predicate counts edges:
+// a closed mesh has 3/2 edges per face): isotropic remeshing alone coarsens by large factors
+// slowly (horse.ply, 97k -> 20k faces: 0.8 s for one iteration). The collapse takes the
+// shortest edge first and puts the new vertex at its midpoint, refusing collapses that flip a
+// face normal: about 3x faster than the Lindstrom-Turk default (0.5 s instead of 1.3 s on the
+// horse) and, as it evens out edge lengths, a better start for the isotropic remeshing, which
+// then makes the triangles uniform in 3 iterations.
 #include "remesh.h"
 
 #include <cmath>
@@ -15,8 +19,10 @@
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_placement.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include "dcg/errors.h"
@@ -43,8 +49,11 @@ Mesh remesh_uniform(const Mesh& mesh, int target_faces) {
   const double area = PMP::area(sm);
   const double L = std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces));
   if (static_cast<double>(sm.number_of_faces()) > 2.0 * target_faces) {
-    SMS::Count_stop_predicate<SM> stop(static_cast<std::size_t>(target_faces));
-    SMS::edge_collapse(sm, stop);
+    SMS::Count_stop_predicate<SM> stop(static_cast<std::size_t>(1.5 * target_faces));
+    SMS::edge_collapse(sm, stop,
+                       CGAL::parameters::get_cost(SMS::Edge_length_cost<SM>())
+                           .get_placement(SMS::Bounded_normal_change_placement<
+                                          SMS::Midpoint_placement<SM>>()));
     sm.collect_garbage();
   }
   PMP::isotropic_remeshing(faces(sm), L, sm,

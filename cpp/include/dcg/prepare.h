@@ -2,6 +2,7 @@
 // mesh in normalized units (bounding-box diagonal 1), with a map back to the input vertices.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <Eigen/Core>
@@ -9,6 +10,8 @@
 #include "dcg/types.h"
 
 namespace dcg {
+
+class SurfaceQuery;
 
 enum class Repair {
   Auto,  ///< not a closed manifold -> build a closed manifold proxy with CGAL alpha_wrap_3
@@ -32,6 +35,7 @@ struct MeshReport {
   int welded_vertices = 0;           ///< vertices merged into others
   int dropped_faces = 0;             ///< degenerate (zero-area, repeated index) or duplicate faces
   int border_edges = 0;              ///< edges with one incident face
+  int border_loops = 0;              ///< connected sets of border edges (holes)
   int non_manifold_edges = 0;        ///< edges with more than two incident faces
   int non_manifold_vertices = 0;     ///< vertices whose faces form several fans (pinched)
   int components = 0;                ///< connected components (over shared edges)
@@ -53,9 +57,12 @@ struct PreparedMesh {
   bool remeshed = false;  ///< the working mesh was remeshed (false: the input was kept)
   int genus = 0;          ///< total genus of the working mesh, from its Euler characteristic
   /// Map from each input vertex to the working mesh: #V_in face indices into working.F and
-  /// #V_in by 3 barycentric coordinates of the closest working-mesh point.
+  /// #V_in by 3 barycentric coordinates of the closest working-mesh point. When the working
+  /// mesh is the cleaned input itself, a vertex maps exactly onto its own corner.
   Eigen::VectorXi map_face;
   Vertices map_barycentric;
+  /// Closest-point / inside queries on `working`, built once here and shared by later stages.
+  std::shared_ptr<const SurfaceQuery> query;
 
   /// Normalized -> input coordinates.
   Eigen::RowVector3d to_input(const Eigen::RowVector3d& p) const { return p * scale + offset; }
@@ -65,9 +72,10 @@ struct PreparedMesh {
 /// indices in range. Throws InputError with the reason (which face, which index, ...).
 void validate_mesh(const Vertices& V, const Faces& F);
 
-/// Runs stage 0. Throws InputError for invalid input, or when the mesh is not a closed manifold
-/// and options.repair is Repair::None (the message gives border / non-manifold edges and
-/// components).
+/// Runs stage 0. Throws InputError for invalid input (see validate_mesh; also a mesh whose
+/// vertices all lie in one plane, or that has fewer than 4 faces left after dropping degenerate
+/// ones), or when the mesh is not a single closed manifold and options.repair is Repair::None
+/// (the message gives border edges and loops, non-manifold edges and vertices, components).
 PreparedMesh prepare_mesh(const Vertices& V, const Faces& F, const PrepareOptions& options = {});
 
 /// Genus from the Euler characteristic, summed over the connected components of (V, F):

@@ -1,6 +1,8 @@
-// Geometric queries against a closed triangle mesh: closest point, distance, inside tests.
+// Geometric queries against a closed triangle mesh: closest point, distance, inside tests, rays.
 // Shared by the stages that need them (Voronoi balls, domain balls, links). Built once per mesh
-// (an AABB tree inside; CGAL stays in the .cpp). Thread-safe for concurrent const queries.
+// (an Embree BVH inside; Embree stays in the .cpp). Thread-safe for concurrent const queries.
+// Closest points and distances are exact in double precision; ray and segment tests run in
+// Embree's float precision (about 1e-7 of the mesh's size).
 #pragma once
 
 #include <memory>
@@ -13,7 +15,8 @@ namespace dcg {
 
 class SurfaceQuery {
  public:
-  /// `mesh` must be closed and oriented for the inside tests to mean anything.
+  /// `mesh` must be closed and oriented for the inside tests to mean anything. InputError when
+  /// it has no faces or an index out of range.
   explicit SurfaceQuery(const Mesh& mesh);
   ~SurfaceQuery();
   SurfaceQuery(SurfaceQuery&&) noexcept;
@@ -25,8 +28,19 @@ class SurfaceQuery {
   double distance(const Eigen::Vector3d& p) const;
   /// Distance to the surface, negative inside (the sign of inside()); 0 on the surface.
   double signed_distance(const Eigen::Vector3d& p) const;
+  /// The same with a hint: `hint` is a point on face `hint_face` of the mesh, near p (e.g. the
+  /// surface sample whose Delaunay cell gave p). Its distance bounds the search, which makes the
+  /// query several times faster; the result does not depend on the hint. hint_face < 0: no hint.
+  double signed_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& hint,
+                         int hint_face) const;
+  /// Number of triangles of the mesh the query was built on.
+  int face_count() const;
   /// True when p is strictly inside the closed surface (points on it count as outside).
   bool inside(const Eigen::Vector3d& p) const;
+  /// Distance from `origin` along `direction` (any length) to the first surface hit, infinity
+  /// when the ray hits nothing; `face` (if given) receives the face hit.
+  double ray_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                 int* face = nullptr) const;
   /// True when both ends are inside and the segment a-b does not cross the surface.
   bool segment_inside(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
 
