@@ -95,3 +95,26 @@ def test_a_multi_part_mesh_is_rigged_as_one_object():
     assert rig(weights="ENVELOPE") == {"FINISHED"}
     sums = np.array([sum(g.weight for g in v.groups) for v in obj.data.vertices])
     assert np.allclose(sums, 1.0, atol=1e-3)
+
+
+def test_nan_coordinates_are_an_error_report_that_changes_nothing():
+    obj = add_mesh("broken", *capsule())
+    obj.data.vertices[5].co = (float("nan"), 0.0, 0.0)  # after validate(), which would fix it
+    before = scene_counts()
+    with pytest.raises(RuntimeError, match="DCG: .*(NaN|finite|nan)"):
+        rig()
+    assert scene_counts() == before
+
+
+def test_a_flat_mesh_is_an_error_report_or_a_rig_never_a_crash():
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=float)
+    F = np.array([[0, 1, 2], [0, 2, 3], [0, 2, 1], [0, 3, 2]])
+    add_mesh("flat", V, F)
+    before = scene_counts()
+    try:
+        result = rig(weights="ENVELOPE")
+    except RuntimeError as error:
+        assert "DCG:" in str(error)
+        assert scene_counts() == before
+    else:
+        assert result == {"FINISHED"}
