@@ -70,6 +70,8 @@ py::dict prepared_dict(const dcg::PreparedMesh& pm) {
   d["scale"] = pm.scale;
   d["offset"] = Eigen::Vector3d(pm.offset.transpose());
   d["repaired"] = pm.repaired;
+  d["remeshed"] = pm.remeshed;
+  d["wrap_alpha"] = pm.wrap_alpha;
   d["genus"] = pm.genus;
   d["map_face"] = Eigen::VectorXi(pm.map_face).cast<std::int64_t>().eval();
   d["map_barycentric"] = pm.map_barycentric;
@@ -79,7 +81,10 @@ py::dict prepared_dict(const dcg::PreparedMesh& pm) {
   report["welded_vertices"] = pm.report.welded_vertices;
   report["dropped_faces"] = pm.report.dropped_faces;
   report["border_edges"] = pm.report.border_edges;
+  report["border_loops"] = pm.report.border_loops;
   report["non_manifold_edges"] = pm.report.non_manifold_edges;
+  report["non_manifold_vertices"] = pm.report.non_manifold_vertices;
+  report["orientable"] = pm.report.orientable;
   report["components"] = pm.report.components;
   report["closed_manifold"] = pm.report.closed_manifold();
   d["report"] = report;
@@ -108,6 +113,42 @@ py::dict skeleton_dict(const dcg::Skeleton& s) {
   d["genus"] = s.genus;
   d["repaired"] = s.repaired;
   d["method"] = s.method;
+  return d;
+}
+
+py::dict prongs_dict(const dcg::Prongs& p) {
+  py::dict d;
+  d["tau"] = p.tau;
+  d["vertices"] = Eigen::VectorXi(p.vertices).cast<std::int64_t>().eval();
+  d["positions"] = p.positions;
+  d["significance"] = p.significance;
+  return d;
+}
+
+py::dict prong_features_dict(const dcg::ProngFeatures& pf) {
+  py::dict d = prongs_dict(pf.prongs);
+  d["scale_function"] = pf.scale.values;
+  d["sources"] = Eigen::VectorXi(pf.scale.sources).cast<std::int64_t>().eval();
+  d["source_weights"] = pf.scale.weights;
+  const auto& peaks = pf.hierarchy.peaks();
+  const auto n = static_cast<Eigen::Index>(peaks.size());
+  Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> vertex(n);
+  Eigen::VectorXd value(n), valley(n), ratio(n);
+  Eigen::Matrix<bool, Eigen::Dynamic, 1> global(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    vertex[i] = peaks[i].vertex;
+    value[i] = peaks[i].value;
+    valley[i] = peaks[i].valley;
+    ratio[i] = peaks[i].ratio;
+    global[i] = peaks[i].global;
+  }
+  py::dict pd;
+  pd["vertices"] = vertex;
+  pd["values"] = value;
+  pd["valleys"] = valley;
+  pd["ratios"] = ratio;
+  pd["global"] = global;
+  d["peaks"] = pd;
   return d;
 }
 
@@ -144,6 +185,19 @@ class PyExtractor {
     d["source"] = db.source;
     return d;
   }
+  py::dict prongs(py::object tau) {
+    if (tau.is_none()) {
+      return prong_features_dict(
+          run([](dcg::Extractor& e) -> const dcg::ProngFeatures& { return e.prongs(); }));
+    }
+    const double t = tau.cast<double>();
+    return prongs_dict(run([t](dcg::Extractor& e) { return e.prongs_at(t); }));
+  }
+  py::list timings() const {
+    py::list out;
+    for (const auto& t : extractor_.timings()) out.append(py::make_tuple(t.first, t.second));
+    return out;
+  }
   py::dict skeleton() {
     return skeleton_dict(run([](dcg::Extractor& e) -> const dcg::Skeleton& { return e.skeleton(); }));
   }
@@ -173,7 +227,9 @@ void bind_pipeline(py::module_& m) {
       .def("prepare", &PyExtractor::prepare)
       .def("voronoi_balls", &PyExtractor::voronoi_balls)
       .def("domain_balls", &PyExtractor::domain_balls)
+      .def("prongs", &PyExtractor::prongs, py::arg("tau") = py::none())
       .def("skeleton", &PyExtractor::skeleton)
+      .def_property_readonly("timings", &PyExtractor::timings)
       .def_property_readonly("options", &PyExtractor::options);
 }
 

@@ -11,7 +11,10 @@ Stage by stage (each result kept, as in the paper's Fig. 4):
     ex = dcg.Extractor(V, F)
     working = ex.prepare()        # stage 0: closed, uniform, normalized working mesh
     balls = ex.domain_balls()     # stages 1-2
+    prongs = ex.prongs()          # stage 3: prong peaks and their significance
+    fewer = ex.prongs(tau=0.7)    # re-thresholded, no new geodesics
     skeleton = ex.skeleton()
+    print(ex.timings)             # [(stage, seconds), ...]
 
 Errors: ValueError for bad data or options, OSError for unreadable files, dcg.Cancelled when a
 progress callback returns False. The heavy work runs with the GIL released.
@@ -30,7 +33,7 @@ from .skeleton import FORMAT, Skeleton
 
 __all__ = [
     "Cancelled", "Extractor", "OPTIONS", "OptionInfo", "Skeleton", "FORMAT", "Balls",
-    "PreparedMesh", "extract_skeleton", "load_mesh", "as_mesh",
+    "PreparedMesh", "Prongs", "extract_skeleton", "load_mesh", "as_mesh",
 ]
 __version__ = "0.1.0"
 
@@ -82,6 +85,8 @@ class PreparedMesh:
     report: Dict[str, Any]
     map_face: np.ndarray
     map_barycentric: np.ndarray
+    remeshed: bool = False
+    wrap_alpha: float = 0.0
 
 
 @dataclass
@@ -91,6 +96,47 @@ class Balls:
     centers: np.ndarray
     radii: np.ndarray
     source: Optional[np.ndarray] = None
+
+
+@dataclass
+class Prongs:
+    """Stage 3, in normalized units on the working mesh (PreparedMesh.vertices / faces).
+
+    vertices      #P int64 peak vertex of each prong in the working mesh, strongest first
+    positions     #P x 3 float64 peak positions (normalized units)
+    significance  #P float64 ratio valley / peak (lower = stronger), increasing
+    tau           the smoothness ratio they were selected with
+    The rest is filled by Extractor.prongs() without tau (None after re-thresholding):
+    scale_function  #V float64 f(v), mean geodesic distance to the surface (normalized units)
+    sources / source_weights  #S int64 geodesic sources and the area each stands for
+    peaks         dict of #K arrays over every local maximum of f, by increasing ratio:
+                  vertices, values, valleys, ratios, global (bool)
+    """
+
+    vertices: np.ndarray
+    positions: np.ndarray
+    significance: np.ndarray
+    tau: float
+    scale_function: Optional[np.ndarray] = None
+    sources: Optional[np.ndarray] = None
+    source_weights: Optional[np.ndarray] = None
+    peaks: Optional[Dict[str, np.ndarray]] = None
+
+    @staticmethod
+    def _from_core(d) -> "Prongs":
+        def opt(key, dtype=None):
+            return np.asarray(d[key], dtype=dtype) if key in d else None
+
+        peaks = None
+        if "peaks" in d:
+            peaks = {key: np.asarray(value) for key, value in dict(d["peaks"]).items()}
+        return Prongs(
+            vertices=np.asarray(d["vertices"], dtype=np.int64),
+            positions=np.asarray(d["positions"], dtype=np.float64).reshape(-1, 3),
+            significance=np.asarray(d["significance"], dtype=np.float64),
+            tau=float(d["tau"]), scale_function=opt("scale_function", np.float64),
+            sources=opt("sources", np.int64), source_weights=opt("source_weights", np.float64),
+            peaks=peaks)
 
 
 class Extractor:
@@ -111,7 +157,8 @@ class Extractor:
             vertices=np.asarray(d["vertices"]), faces=np.asarray(d["faces"]),
             scale=float(d["scale"]), offset=np.asarray(d["offset"]).reshape(3),
             genus=int(d["genus"]), repaired=bool(d["repaired"]), report=dict(d["report"]),
-            map_face=np.asarray(d["map_face"]), map_barycentric=np.asarray(d["map_barycentric"]))
+            map_face=np.asarray(d["map_face"]), map_barycentric=np.asarray(d["map_barycentric"]),
+            remeshed=bool(d["remeshed"]), wrap_alpha=float(d["wrap_alpha"]))
 
     def voronoi_balls(self) -> Balls:
         d = self._core.voronoi_balls()
@@ -121,6 +168,22 @@ class Extractor:
         d = self._core.domain_balls()
         return Balls(np.asarray(d["centers"]).reshape(-1, 3), np.asarray(d["radii"]),
                      np.asarray(d["source"], dtype=np.int64))
+
+    def prongs(self, tau: Optional[float] = None) -> Prongs:
+        """Stage 3 at the extractor's tau, or re-thresholded at `tau` (no new geodesics)."""
+        if tau is not None:
+            try:
+                tau = float(tau)
+            except (TypeError, ValueError):
+                raise ValueError(f"tau must be a number, got {tau!r}") from None
+            if not 0.0 < tau <= 1.0:
+                raise ValueError(f"tau must be in (0, 1], got {tau}")
+        return Prongs._from_core(self._core.prongs(tau))
+
+    @property
+    def timings(self):
+        """[(stage, seconds), ...] for the stages run so far, in order."""
+        return list(self._core.timings)
 
     def skeleton(self) -> Skeleton:
         if self._skeleton is None:

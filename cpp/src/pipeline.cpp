@@ -1,10 +1,11 @@
 // The pipeline: option table, stepwise Extractor and extract_skeleton(). See dcg/pipeline.h.
 //
-// Stages 3-8 are not implemented yet. Until they land, skeleton() builds an INTERIM graph from
+// Stages 4-8 are not implemented yet. Until they land, skeleton() builds an INTERIM graph from
 // the domain points of stage 2 (method "interim_graph", see build_interim_graph below): a
 // Euclidean minimum spanning tree, short twigs pruned, chains of degree-2 points turned into
 // link polylines. It is real data from real stages, good enough to run the whole path into
 // Blender, and it is replaced by stages 4-8 (ALGORITHM.md) without changing the Skeleton type.
+// Stage 3 only sets the significance of its end nodes (mark_prong_ends).
 #include "dcg/pipeline.h"
 
 #include <algorithm>
@@ -243,6 +244,31 @@ Skeleton build_interim_graph(const Balls& domain) {
   return s;
 }
 
+// Stage 3 on the interim graph (normalized units): the end node nearest to each prong's peak,
+// strongest prongs first and each end at most once, gets the prong's significance; ends that
+// stand for no prong get 1, the weakest ratio. The graph itself is left as it is.
+void mark_prong_ends(const Prongs& prongs, Skeleton& s) {
+  const int n = static_cast<int>(s.positions.rows());
+  std::vector<char> taken(n, 0);
+  for (int i = 0; i < n; ++i)
+    if (s.kinds[i] == NodeKind::End) s.significance[i] = 1.0;
+  for (Eigen::Index p = 0; p < prongs.vertices.size(); ++p) {
+    int best = -1;
+    double best_d2 = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n; ++i) {
+      if (s.kinds[i] != NodeKind::End || taken[i]) continue;
+      const double d2 = (s.positions.row(i) - prongs.positions.row(p)).squaredNorm();
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best = i;
+      }
+    }
+    if (best < 0) break;
+    taken[best] = 1;
+    s.significance[best] = prongs.significance[p];
+  }
+}
+
 }  // namespace
 
 // --- options --------------------------------------------------------------------------------------
@@ -312,10 +338,7 @@ const PreparedMesh& Extractor::prepare() {
   return *prepared_;
 }
 
-const SurfaceQuery& Extractor::query() {
-  if (!query_) query_ = std::make_unique<SurfaceQuery>(prepare().working);
-  return *query_;
-}
+const SurfaceQuery& Extractor::query() { return *prepare().query; }
 
 const Balls& Extractor::voronoi_balls() {
   if (!voronoi_) {
@@ -345,12 +368,31 @@ const DomainBalls& Extractor::domain_balls() {
   return *domain_;
 }
 
+const ProngFeatures& Extractor::prongs() {
+  if (!prongs_) {
+    const Mesh& working = prepare().working;
+    progress_.report("prongs", 0.6);
+    const double t0 = now_seconds();
+    ProngOptions po;
+    po.tau = options_.tau;
+    po.geodesic_sources = options_.geodesic_sources;
+    po.seed = options_.seed;
+    prongs_ = compute_prongs(working, po);
+    timed("prongs", now_seconds() - t0);
+  }
+  return *prongs_;
+}
+
+Prongs Extractor::prongs_at(double tau) { return prongs().hierarchy.prongs(tau); }
+
 const Skeleton& Extractor::skeleton() {
   if (!skeleton_) {
     const DomainBalls& domain = domain_balls();
+    const Prongs& found = prongs().prongs;
     progress_.report("interim_graph", 0.65);
     const double t0 = now_seconds();
     Skeleton s = build_interim_graph(domain.balls);
+    mark_prong_ends(found, s);
     timed("interim_graph", now_seconds() - t0);
 
     // Back to the input's coordinates.

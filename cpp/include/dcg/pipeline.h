@@ -10,6 +10,7 @@
 #include "dcg/domain_balls.h"
 #include "dcg/prepare.h"
 #include "dcg/progress.h"
+#include "dcg/prongs.h"
 #include "dcg/skeleton.h"
 #include "dcg/types.h"
 #include "dcg/voronoi_balls.h"
@@ -84,8 +85,16 @@ class Extractor {
   const Balls& voronoi_balls();
   /// Stage 2: domain balls (normalized units).
   const DomainBalls& domain_balls();
+  /// Stage 3: scale function and prongs at options().tau (working-mesh vertices, normalized
+  /// units). Needs stage 0 only.
+  const ProngFeatures& prongs();
+  /// Stage 3 re-thresholded at another smoothness ratio: no new geodesics (InputError for tau
+  /// outside (0, 1]).
+  Prongs prongs_at(double tau);
   /// All stages: the skeleton in input coordinates.
   const Skeleton& skeleton();
+  /// Seconds per stage run so far, in the order they ran.
+  const std::vector<std::pair<std::string, double>>& timings() const { return timings_; }
 
  private:
   const SurfaceQuery& query();
@@ -96,9 +105,9 @@ class Extractor {
   Options options_;
   Progress progress_;
   std::optional<PreparedMesh> prepared_;
-  std::unique_ptr<SurfaceQuery> query_;
   std::optional<Balls> voronoi_;
   std::optional<DomainBalls> domain_;
+  std::optional<ProngFeatures> prongs_;
   std::optional<Skeleton> skeleton_;
   std::vector<std::pair<std::string, double>> timings_;
 };

@@ -1,0 +1,114 @@
+// Stage 3 (ALGORITHM.md "Prong features", paper section 6): the scale function f on the working
+// mesh and its prongs, the local maxima of f that a watershed with smoothness ratio tau keeps.
+//
+// Scale function (paper: f(v) = sum over all vertices v_i of geodesic(v, v_i), O(n^2)): here
+// f(v) = sum_s w_s d(v, s) / sum_s w_s over `geodesic_sources` sources s picked by geodesic
+// farthest-point sampling, w_s the area of the surface closer to s than to any other source
+// (its geodesic Voronoi cell), d the Dijkstra distance along mesh edges. So f(v) is the mean
+// geodesic distance from v to the surface, in the mesh's units; only ratios of f matter.
+//
+// Watershed: vertices visited by decreasing f grow regions (union-find). When regions meet at a
+// vertex of value s (the valley), each one but the region of the highest peak ends there: its
+// peak p gets the ratio s / p, its significance (lower = more significant). A peak is a prong at
+// smoothness ratio tau when its ratio is below tau. The global maximum never meets a higher one:
+// its ratio is min f / max f, and it is a prong when that is below tau AND its cap (the connected
+// region with f >= tau * max f around it) is a disk (one boundary loop): a sphere's or a fat
+// torus's cap is everything or a band (no prong), a capsule's end is a disk (2 prongs).
+//
+// Two tiers (as geometry-central): compute_prongs() for the default case, and ProngHierarchy
+// that keeps every peak with its ratio, so that prongs(tau) for another tau costs O(#peaks) plus
+// one flood fill of the global cap: no new geodesics.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dcg/types.h"
+
+namespace dcg {
+
+struct ScaleFunctionOptions {
+  /// Geodesic sources (ALGORITHM.md default 128). 0, or at least #V: every vertex is a source
+  /// weighted by its own area (the exact O(n^2) sum).
+  int geodesic_sources = 128;
+  /// Picks the first source (then farthest-point sampling is deterministic).
+  unsigned seed = 0;
+};
+
+struct ScaleFunction {
+  Eigen::VectorXd values;   ///< #V f(v): area-weighted mean geodesic distance to the surface
+  Eigen::VectorXi sources;  ///< #S source vertices
+  Eigen::VectorXd weights;  ///< #S area each source stands for (sums to the mesh's area)
+};
+
+/// The sampled scale function on (V, F). Sources run in parallel (TBB); the result does not
+/// depend on the number of threads. Throws InputError for an empty mesh or bad indices.
+ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOptions& options = {});
+
+/// The exact O(n^2) sums, for tests and small meshes: f(v) = sum_i A_i d(v, v_i) / sum_i A_i with
+/// A_i the vertex areas (area_weighted), or the paper's plain mean (1/n) sum_i d(v, v_i).
+Eigen::VectorXd exact_scale_function(const Mesh& mesh, bool area_weighted = true);
+
+/// Dijkstra distances along the edges of (V, F) from `source` to every vertex (infinity where
+/// unreachable).
+Eigen::VectorXd edge_geodesics(const Mesh& mesh, int source);
+
+/// One local maximum of f and how it ends in the watershed.
+struct Peak {
+  int vertex = -1;      ///< the vertex holding the maximum
+  double value = 0;     ///< f at the peak, p
+  double valley = 0;    ///< f where its region met a region with a higher peak, s (global: min f)
+  double ratio = 1;     ///< s / p: the significance (lower = stronger)
+  bool global = false;  ///< the global maximum (also needs a disk-shaped cap to be a prong)
+};
+
+/// Prongs at one tau, strongest first.
+struct Prongs {
+  double tau = 0.85;             ///< the smoothness ratio they were selected with
+  Eigen::VectorXi vertices;      ///< #P peak vertices in the mesh
+  Points positions;              ///< #P by 3 peak positions (the mesh's units)
+  Eigen::VectorXd significance;  ///< #P ratios valley / peak, increasing
+};
+
+/// The watershed of f, done once: every peak with its ratio. Re-thresholding is cheap.
+class ProngHierarchy {
+ public:
+  ProngHierarchy() = default;
+  /// mesh: V #V by 3, F #F by 3; f: #V scale function values. Throws InputError on size mismatch.
+  ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f);
+
+  /// Every local maximum of f (plateaus count once), sorted by increasing ratio.
+  const std::vector<Peak>& peaks() const { return peaks_; }
+  /// The prongs at smoothness ratio tau (0 < tau <= 1).
+  Prongs prongs(double tau) const;
+  /// True when the cap {f >= tau * max f} around the global maximum has one boundary loop.
+  bool global_cap_is_disk(double tau) const;
+
+ private:
+  bool cap_is_disk(int peak_vertex, double tau) const;
+
+  Mesh mesh_;
+  Eigen::VectorXd f_;
+  std::vector<int> adjacency_start_, adjacency_;  // vertex -> neighbours (CSR)
+  std::vector<Peak> peaks_;
+  int global_ = -1;  // index of the global peak in peaks_
+};
+
+struct ProngOptions {
+  double tau = 0.85;          ///< smoothness ratio: a peak is a prong when valley / peak < tau
+  int geodesic_sources = 128; ///< sources of the sampled scale function (0: exact)
+  unsigned seed = 0;          ///< seed of the source sampling
+};
+
+/// Everything stage 3 computes.
+struct ProngFeatures {
+  ScaleFunction scale;
+  ProngHierarchy hierarchy;
+  Prongs prongs;  ///< at options.tau
+};
+
+/// Stage 3 on a closed working mesh (normalized units). Throws InputError for bad options.
+ProngFeatures compute_prongs(const Mesh& mesh, const ProngOptions& options = {});
+
+}  // namespace dcg

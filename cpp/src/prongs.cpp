@@ -1,0 +1,431 @@
+// Stage 3: scale function and prong features. See dcg/prongs.h and ALGORITHM.md "3. Prong
+// features".
+//
+// Implementation notes:
+// - Geodesics: Dijkstra on the mesh's edge graph (CSR, binary heap with lazy deletion). The
+//   working mesh is uniform (stage 0 remeshes it), which keeps the metrication error of edge
+//   paths small and, above all, the same everywhere, so ratios of f are meaningful.
+// - Sources: geodesic farthest-point sampling. The first source is the vertex farthest from a
+//   vertex picked by the seed (a tip); each next one is the vertex farthest from all sources so
+//   far. Each new source runs a pruned Dijkstra that only visits vertices it brings closer, so
+//   the whole sampling costs about one Dijkstra per source over its own Voronoi cell: together a
+//   few full Dijkstras. The final nearest-source labels are the geodesic Voronoi cells; a
+//   source's weight is the area of its cell (vertex areas: a third of the incident faces).
+// - Full fields: one Dijkstra per source, in parallel (TBB) in fixed chunks of sources whose
+//   fields are then added in source order: the sums are the same for any number of threads.
+// - Watershed: vertices by decreasing f (ties by index), union-find regions with their peaks;
+//   the elder rule (the region with the lower peak ends where it meets a higher one) gives each
+//   peak one valley, whatever tau is, so re-thresholding needs no new pass.
+#include "dcg/prongs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "dcg/errors.h"
+
+namespace dcg {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Undirected edge graph of a triangle mesh in CSR form.
+struct EdgeGraph {
+  int n = 0;
+  std::vector<int> start;      // n + 1 offsets
+  std::vector<int> neighbour;  // neighbours of each vertex
+  std::vector<double> length;  // edge lengths, parallel to neighbour
+};
+
+void check_mesh(const Mesh& mesh) {
+  const Eigen::Index nv = mesh.V.rows();
+  if (nv == 0 || mesh.F.rows() == 0) throw InputError("prong features: the mesh is empty");
+  if (mesh.F.size() > 0 && (mesh.F.minCoeff() < 0 || mesh.F.maxCoeff() >= nv)) {
+    throw InputError("prong features: a face index is out of range");
+  }
+}
+
+EdgeGraph build_graph(const Mesh& mesh) {
+  EdgeGraph g;
+  g.n = static_cast<int>(mesh.V.rows());
+  std::vector<std::uint64_t> directed;
+  directed.reserve(static_cast<std::size_t>(mesh.F.rows()) * 6);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<std::uint32_t>(mesh.F(f, k));
+      const auto b = static_cast<std::uint32_t>(mesh.F(f, (k + 1) % 3));
+      if (a == b) continue;
+      directed.push_back((static_cast<std::uint64_t>(a) << 32) | b);
+      directed.push_back((static_cast<std::uint64_t>(b) << 32) | a);
+    }
+  }
+  std::sort(directed.begin(), directed.end());
+  directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
+  g.start.assign(g.n + 1, 0);
+  g.neighbour.resize(directed.size());
+  g.length.resize(directed.size());
+  for (std::size_t i = 0; i < directed.size(); ++i) {
+    const int a = static_cast<int>(directed[i] >> 32), b = static_cast<int>(directed[i] & 0xffffffffu);
+    ++g.start[a + 1];
+    g.neighbour[i] = b;
+    g.length[i] = (mesh.V.row(a) - mesh.V.row(b)).norm();
+  }
+  for (int v = 0; v < g.n; ++v) g.start[v + 1] += g.start[v];
+  return g;
+}
+
+// Vertex areas: a third of the area of every incident face.
+std::vector<double> vertex_areas(const Mesh& mesh) {
+  std::vector<double> area(mesh.V.rows(), 0.0);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                          c = mesh.V.row(mesh.F(f, 2));
+    const double third = (b - a).cross(c - a).norm() / 6.0;
+    for (int k = 0; k < 3; ++k) area[mesh.F(f, k)] += third;
+  }
+  return area;
+}
+
+using HeapItem = std::pair<double, int>;
+
+// Dijkstra from `source` over vertices whose distance it can lower: dist holds the current
+// distances (infinity: not reached) and is updated; label[v] = tag for every vertex updated.
+// With dist all infinity this is the plain single-source Dijkstra. `heap` is scratch space.
+void dijkstra(const EdgeGraph& g, int source, double* dist, int* label, int tag,
+              std::vector<HeapItem>& heap) {
+  const auto greater = std::greater<HeapItem>();
+  heap.clear();
+  dist[source] = 0;
+  if (label) label[source] = tag;
+  heap.emplace_back(0.0, source);
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), greater);
+    const auto [d, u] = heap.back();
+    heap.pop_back();
+    if (d > dist[u]) continue;
+    for (int e = g.start[u]; e < g.start[u + 1]; ++e) {
+      const int v = g.neighbour[e];
+      const double nd = d + g.length[e];
+      if (nd < dist[v]) {
+        dist[v] = nd;
+        if (label) label[v] = tag;
+        heap.emplace_back(nd, v);
+        std::push_heap(heap.begin(), heap.end(), greater);
+      }
+    }
+  }
+}
+
+// Sum over sources of weight * distance, by chunks of sources in parallel, added in source order.
+Eigen::VectorXd weighted_distance_sum(const EdgeGraph& g, const std::vector<int>& sources,
+                                      const std::vector<double>& weights) {
+  const int n = g.n, S = static_cast<int>(sources.size());
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), reached = Eigen::VectorXd::Zero(n);
+  const int chunk = 32;
+  std::vector<float> fields(static_cast<std::size_t>(std::min(chunk, S)) * n);
+  for (int first = 0; first < S; first += chunk) {
+    const int count = std::min(chunk, S - first);
+    tbb::parallel_for(tbb::blocked_range<int>(0, count, 1), [&](const tbb::blocked_range<int>& r) {
+      std::vector<double> dist(n);
+      std::vector<HeapItem> heap;
+      heap.reserve(n);
+      for (int i = r.begin(); i != r.end(); ++i) {
+        std::fill(dist.begin(), dist.end(), kInf);
+        dijkstra(g, sources[first + i], dist.data(), nullptr, 0, heap);
+        float* out = fields.data() + static_cast<std::size_t>(i) * n;
+        for (int v = 0; v < n; ++v) out[v] = static_cast<float>(dist[v]);
+      }
+    });
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& r) {
+      for (int i = 0; i < count; ++i) {
+        const double w = weights[first + i];
+        const float* in = fields.data() + static_cast<std::size_t>(i) * n;
+        for (int v = r.begin(); v != r.end(); ++v) {
+          if (std::isinf(in[v])) continue;  // another component
+          sum[v] += w * in[v];
+          reached[v] += w;
+        }
+      }
+    });
+  }
+  for (int v = 0; v < n; ++v) sum[v] = reached[v] > 0 ? sum[v] / reached[v] : 0.0;
+  return sum;
+}
+
+}  // namespace
+
+Eigen::VectorXd edge_geodesics(const Mesh& mesh, int source) {
+  check_mesh(mesh);
+  if (source < 0 || source >= mesh.V.rows()) throw InputError("edge_geodesics: bad source vertex");
+  const EdgeGraph g = build_graph(mesh);
+  Eigen::VectorXd dist = Eigen::VectorXd::Constant(g.n, kInf);
+  std::vector<HeapItem> heap;
+  dijkstra(g, source, dist.data(), nullptr, 0, heap);
+  return dist;
+}
+
+Eigen::VectorXd exact_scale_function(const Mesh& mesh, bool area_weighted) {
+  check_mesh(mesh);
+  const EdgeGraph g = build_graph(mesh);
+  const int n = g.n;
+  std::vector<double> w = area_weighted ? vertex_areas(mesh) : std::vector<double>(n, 1.0);
+  // f(v) from v's own Dijkstra (d is symmetric): independent per vertex, O(n) memory.
+  Eigen::VectorXd f(n);
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& r) {
+    std::vector<double> dist(n);
+    std::vector<HeapItem> heap;
+    for (int v = r.begin(); v != r.end(); ++v) {
+      std::fill(dist.begin(), dist.end(), kInf);
+      dijkstra(g, v, dist.data(), nullptr, 0, heap);
+      double sum = 0, total = 0;
+      for (int i = 0; i < n; ++i) {
+        if (std::isinf(dist[i])) continue;
+        sum += w[i] * dist[i];
+        total += w[i];
+      }
+      f[v] = total > 0 ? sum / total : 0.0;
+    }
+  });
+  return f;
+}
+
+ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOptions& options) {
+  check_mesh(mesh);
+  if (options.geodesic_sources < 0) throw InputError("geodesic_sources must be >= 0");
+  const EdgeGraph g = build_graph(mesh);
+  const int n = g.n;
+  const std::vector<double> area = vertex_areas(mesh);
+  ScaleFunction out;
+  std::vector<int> sources;
+  std::vector<double> weights;
+  if (options.geodesic_sources == 0 || options.geodesic_sources >= n) {
+    out.values = exact_scale_function(mesh, true);
+    out.sources.resize(n);
+    std::iota(out.sources.data(), out.sources.data() + n, 0);
+    out.weights = Eigen::Map<const Eigen::VectorXd>(area.data(), n);
+    return out;
+  }
+  // Geodesic farthest-point sampling with incremental (pruned) Dijkstra.
+  std::vector<double> dist(n, kInf);
+  std::vector<int> label(n, -1);
+  std::vector<HeapItem> heap;
+  heap.reserve(n);
+  {
+    std::mt19937 rng(options.seed);
+    const int start = static_cast<int>(rng() % static_cast<unsigned>(n));
+    std::vector<double> from_start(n, kInf);
+    dijkstra(g, start, from_start.data(), nullptr, 0, heap);
+    int first = start;
+    for (int v = 0; v < n; ++v)
+      if (!std::isinf(from_start[v]) && from_start[v] > from_start[first]) first = v;
+    sources.push_back(first);
+    dijkstra(g, first, dist.data(), label.data(), 0, heap);
+  }
+  while (static_cast<int>(sources.size()) < options.geodesic_sources) {
+    int next = 0;
+    for (int v = 1; v < n; ++v)
+      if (dist[v] > dist[next]) next = v;  // an unreached vertex (infinity) comes first
+    if (!(dist[next] > 0)) break;  // every vertex is a source already
+    const int tag = static_cast<int>(sources.size());
+    sources.push_back(next);
+    dijkstra(g, next, dist.data(), label.data(), tag, heap);
+  }
+  weights.assign(sources.size(), 0.0);
+  for (int v = 0; v < n; ++v)
+    if (label[v] >= 0) weights[label[v]] += area[v];
+  out.values = weighted_distance_sum(g, sources, weights);
+  out.sources = Eigen::Map<const Eigen::VectorXi>(sources.data(), static_cast<Eigen::Index>(sources.size()));
+  out.weights = Eigen::Map<const Eigen::VectorXd>(weights.data(), static_cast<Eigen::Index>(weights.size()));
+  return out;
+}
+
+// --- watershed -------------------------------------------------------------------------------
+
+ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f) : mesh_(mesh), f_(f) {
+  check_mesh(mesh);
+  const int n = static_cast<int>(mesh.V.rows());
+  if (f.size() != n) {
+    throw InputError("prong hierarchy: " + std::to_string(f.size()) + " values for " +
+                     std::to_string(n) + " vertices");
+  }
+  if (!f.allFinite()) throw InputError("prong hierarchy: the scale function is not finite");
+  const EdgeGraph g = build_graph(mesh);
+  adjacency_start_ = g.start;
+  adjacency_ = g.neighbour;
+
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return f[a] != f[b] ? f[a] > f[b] : a < b; });
+  std::vector<int> rank(n);
+  for (int i = 0; i < n; ++i) rank[order[i]] = i;
+
+  std::vector<int> parent(n, -1);  // -1: not visited yet
+  std::vector<int> peak_of(n, -1);  // root -> index into peaks_
+  std::vector<int> lowest(n, -1);   // root -> its lowest vertex so far
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<int> roots;
+  for (const int v : order) {
+    roots.clear();
+    for (int e = adjacency_start_[v]; e < adjacency_start_[v + 1]; ++e) {
+      const int u = adjacency_[e];
+      if (parent[u] < 0) continue;
+      const int r = find(u);
+      if (std::find(roots.begin(), roots.end(), r) == roots.end()) roots.push_back(r);
+    }
+    if (roots.empty()) {  // a new local maximum
+      parent[v] = v;
+      peak_of[v] = static_cast<int>(peaks_.size());
+      lowest[v] = v;
+      Peak p;
+      p.vertex = v;
+      p.value = f[v];
+      peaks_.push_back(p);
+      continue;
+    }
+    // The region whose peak is highest (first in the order) survives; the others end here.
+    int best = roots[0];
+    for (const int r : roots)
+      if (rank[peaks_[peak_of[r]].vertex] < rank[peaks_[peak_of[best]].vertex]) best = r;
+    for (const int r : roots) {
+      if (r == best) continue;
+      Peak& p = peaks_[peak_of[r]];
+      p.valley = f[v];
+      p.ratio = p.value > 0 ? f[v] / p.value : 1.0;
+      parent[r] = best;
+    }
+    parent[v] = best;
+    lowest[best] = v;
+  }
+  // Regions still open at the end (one per connected component) hold the global maxima.
+  for (int v = 0; v < n; ++v) {
+    if (parent[v] != v) continue;
+    Peak& p = peaks_[peak_of[v]];
+    p.global = true;
+    p.valley = f[lowest[v]];
+    p.ratio = p.value > 0 ? p.valley / p.value : 1.0;
+  }
+  std::sort(peaks_.begin(), peaks_.end(), [&](const Peak& a, const Peak& b) {
+    if (a.ratio != b.ratio) return a.ratio < b.ratio;
+    return rank[a.vertex] < rank[b.vertex];
+  });
+  // The global maximum of the whole mesh: the peak first in the order.
+  for (int i = 0; i < static_cast<int>(peaks_.size()); ++i) {
+    if (peaks_[i].global && (global_ < 0 || rank[peaks_[i].vertex] < rank[peaks_[global_].vertex])) {
+      global_ = i;
+    }
+  }
+}
+
+bool ProngHierarchy::global_cap_is_disk(double tau) const {
+  if (global_ < 0) return false;
+  return cap_is_disk(peaks_[global_].vertex, tau);
+}
+
+bool ProngHierarchy::cap_is_disk(int peak_vertex, double tau) const {
+  const int n = static_cast<int>(f_.size());
+  const double level = tau * f_[peak_vertex];
+  // The connected region with f >= level around the peak.
+  std::vector<char> in(n, 0);
+  std::vector<int> stack = {peak_vertex};
+  in[peak_vertex] = 1;
+  while (!stack.empty()) {
+    const int u = stack.back();
+    stack.pop_back();
+    for (int e = adjacency_start_[u]; e < adjacency_start_[u + 1]; ++e) {
+      const int v = adjacency_[e];
+      if (!in[v] && f_[v] >= level) {
+        in[v] = 1;
+        stack.push_back(v);
+      }
+    }
+  }
+  // Its faces (all three corners inside) and their border edges (used by one such face).
+  std::vector<std::uint64_t> edges;
+  for (Eigen::Index f = 0; f < mesh_.F.rows(); ++f) {
+    if (!in[mesh_.F(f, 0)] || !in[mesh_.F(f, 1)] || !in[mesh_.F(f, 2)]) continue;
+    for (int k = 0; k < 3; ++k) {
+      auto a = static_cast<std::uint32_t>(mesh_.F(f, k)), b = static_cast<std::uint32_t>(mesh_.F(f, (k + 1) % 3));
+      if (a > b) std::swap(a, b);
+      edges.push_back((static_cast<std::uint64_t>(a) << 32) | b);
+    }
+  }
+  if (edges.empty()) return true;  // a cap smaller than a triangle: a point, a disk
+  std::sort(edges.begin(), edges.end());
+  // Border loops: connected components of the border edges (union-find on their vertices).
+  std::vector<int> parent(n, -1);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  int loops = 0;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) {
+      const int a = static_cast<int>(edges[i] >> 32), b = static_cast<int>(edges[i] & 0xffffffffu);
+      for (const int x : {a, b}) {
+        if (parent[x] < 0) {
+          parent[x] = x;
+          ++loops;
+        }
+      }
+      const int ra = find(a), rb = find(b);
+      if (ra != rb) {
+        parent[rb] = ra;
+        --loops;
+      }
+    }
+    i = j;
+  }
+  return loops == 1;
+}
+
+Prongs ProngHierarchy::prongs(double tau) const {
+  if (!(tau > 0 && tau <= 1)) throw InputError("tau must be in (0, 1], got " + std::to_string(tau));
+  std::vector<const Peak*> kept;
+  for (const Peak& p : peaks_) {
+    if (!(p.ratio < tau)) break;  // sorted by ratio
+    if (p.global && !cap_is_disk(p.vertex, tau)) continue;
+    kept.push_back(&p);
+  }
+  Prongs out;
+  out.tau = tau;
+  const auto k = static_cast<Eigen::Index>(kept.size());
+  out.vertices.resize(k);
+  out.positions.resize(k, 3);
+  out.significance.resize(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    out.vertices[i] = kept[i]->vertex;
+    out.positions.row(i) = mesh_.V.row(kept[i]->vertex);
+    out.significance[i] = kept[i]->ratio;
+  }
+  return out;
+}
+
+ProngFeatures compute_prongs(const Mesh& mesh, const ProngOptions& options) {
+  if (!(options.tau > 0 && options.tau <= 1)) {
+    throw InputError("tau must be in (0, 1], got " + std::to_string(options.tau));
+  }
+  ProngFeatures out;
+  ScaleFunctionOptions so;
+  so.geodesic_sources = options.geodesic_sources;
+  so.seed = options.seed;
+  out.scale = compute_scale_function(mesh, so);
+  out.hierarchy = ProngHierarchy(mesh, out.scale.values);
+  out.prongs = out.hierarchy.prongs(options.tau);
+  return out;
+}
+
+}  // namespace dcg
