@@ -104,8 +104,11 @@ std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k,
                 std::sqrt(static_cast<double>(k));
   cell = std::max(cell, ext.maxCoeff() / 128.0);
   const Eigen::Vector3i dims = ((ext / cell).array().floor().cast<int>() + 1).matrix();
-  auto cell_of = [&](const Eigen::Vector3d& p) {
-    Eigen::Vector3i c = ((p - lo) / cell).array().floor().cast<int>().matrix();
+  // (An explicit return type: `auto` would return an Eigen expression that refers to the local
+  // `c`, read after it is gone. That bug made the sampling skip whole regions, e.g. 4 of the 6
+  // arms of a star got no Voronoi ball.)
+  auto cell_of = [&](const Eigen::Vector3d& p) -> Eigen::Vector3i {
+    const Eigen::Vector3i c = ((p - lo) / cell).array().floor().cast<int>().matrix();
     return c.cwiseMax(0).cwiseMin(dims - Eigen::Vector3i::Ones());
   };
   auto flat3 = [&](int x, int y, int z) {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include "dcg/domain_balls.h"
@@ -84,6 +86,34 @@ TEST(VoronoiBalls, CentersInsideAndRadiusIsTheDistanceToTheSurface) {
   EXPECT_EQ(again.radii, balls.radii);
   o.samples = 3;
   EXPECT_THROW(dcg::compute_voronoi_balls(pm.working, *pm.query, o), dcg::InputError);
+}
+
+TEST(VoronoiBalls, SamplesCoverTheWholeSurface) {
+  // Every part of the surface is touched by some ball: for every vertex v, some ball's sphere
+  // passes within a few sample spacings of v (a sampling that skips a region, e.g. an arm of a
+  // star, leaves that region without balls).
+  const Mesh shape = test::star(6, 3.0, 0.35, 40);
+  dcg::PrepareOptions po;
+  po.target_faces = 8000;
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(shape.V, shape.F, po);
+  dcg::VoronoiBallsOptions o;
+  o.samples = 2000;
+  const dcg::Balls balls = dcg::compute_voronoi_balls(pm.working, *pm.query, o);
+  double area = 0;
+  for (Eigen::Index f = 0; f < pm.working.F.rows(); ++f) {
+    const Eigen::Vector3d a = pm.working.V.row(pm.working.F(f, 0)), b = pm.working.V.row(pm.working.F(f, 1)),
+                          c = pm.working.V.row(pm.working.F(f, 2));
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  const double spacing = std::sqrt(area / o.samples);
+  double worst = 0;
+  for (Eigen::Index v = 0; v < pm.working.V.rows(); v += 7) {
+    double gap = std::numeric_limits<double>::infinity();
+    for (Eigen::Index b = 0; b < balls.radii.size(); ++b)
+      gap = std::min(gap, (pm.working.V.row(v) - balls.centers.row(b)).norm() - balls.radii[b]);
+    worst = std::max(worst, gap);
+  }
+  EXPECT_LT(worst, 3 * spacing) << "sample spacing " << spacing;
 }
 
 TEST(DomainBalls, DisjointInsideGreedyAndExact) {
