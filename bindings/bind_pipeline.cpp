@@ -193,6 +193,15 @@ class PyExtractor {
     const double t = tau.cast<double>();
     return prongs_dict(run([t](dcg::Extractor& e) { return e.prongs_at(t); }));
   }
+  py::dict end_points() {
+    const dcg::EndPoints& ep =
+        run([](dcg::Extractor& e) -> const dcg::EndPoints& { return e.end_points(); });
+    py::dict d;
+    d["centers"] = ep.centers;
+    d["radii"] = ep.radii;
+    d["source"] = Eigen::VectorXi(ep.ball).cast<std::int64_t>().eval();
+    return d;
+  }
   py::list timings() const {
     py::list out;
     for (const auto& t : extractor_.timings()) out.append(py::make_tuple(t.first, t.second));
@@ -228,6 +237,7 @@ void bind_pipeline(py::module_& m) {
       .def("voronoi_balls", &PyExtractor::voronoi_balls)
       .def("domain_balls", &PyExtractor::domain_balls)
       .def("prongs", &PyExtractor::prongs, py::arg("tau") = py::none())
+      .def("end_points", &PyExtractor::end_points)
       .def("skeleton", &PyExtractor::skeleton)
       .def_property_readonly("timings", &PyExtractor::timings)
       .def_property_readonly("options", &PyExtractor::options);

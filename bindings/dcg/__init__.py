@@ -13,6 +13,7 @@ Stage by stage (each result kept, as in the paper's Fig. 4):
     balls = ex.domain_balls()     # stages 1-2
     prongs = ex.prongs()          # stage 3: prong peaks and their significance
     fewer = ex.prongs(tau=0.7)    # re-thresholded, no new geodesics
+    ends = ex.end_points()        # a stage-1 ball per prong that sees its peak
     skeleton = ex.skeleton()
     print(ex.timings)             # [(stage, seconds), ...]
 
@@ -179,6 +180,14 @@ class Extractor:
             if not 0.0 < tau <= 1.0:
                 raise ValueError(f"tau must be in (0, 1], got {tau}")
         return Prongs._from_core(self._core.prongs(tau))
+
+    def end_points(self) -> Balls:
+        """Each prong's end point (strongest prong first): the stage-1 ball nearest to its peak
+        that sees it. source: index among voronoi_balls(), -1 (radius 0, the peak itself) when
+        no ball sees the peak. Normalized units."""
+        d = self._core.end_points()
+        return Balls(np.asarray(d["centers"]).reshape(-1, 3), np.asarray(d["radii"]),
+                     np.asarray(d["source"], dtype=np.int64))
 
     @property
     def timings(self):

@@ -385,6 +385,17 @@ const ProngFeatures& Extractor::prongs() {
 
 Prongs Extractor::prongs_at(double tau) { return prongs().hierarchy.prongs(tau); }
 
+const EndPoints& Extractor::end_points() {
+  if (!end_points_) {
+    const Balls& balls = voronoi_balls();
+    const Prongs& found = prongs().prongs;
+    const double t0 = now_seconds();
+    end_points_ = find_end_points(found, balls, query(), 0.5 * options_.min_radius);
+    timed("end_points", now_seconds() - t0);
+  }
+  return *end_points_;
+}
+
 const Skeleton& Extractor::skeleton() {
   if (!skeleton_) {
     const DomainBalls& domain = domain_balls();

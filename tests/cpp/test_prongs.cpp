@@ -4,6 +4,7 @@
 // ../shared/meshes against MANIFEST.tsv.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +20,8 @@
 #include "dcg/io.h"
 #include "dcg/prepare.h"
 #include "dcg/prongs.h"
+#include "dcg/surface_query.h"
+#include "dcg/voronoi_balls.h"
 #include "shapes.h"
 
 namespace {
@@ -194,6 +197,41 @@ TEST(Prongs, RethresholdingNeedsNoNewGeodesicsAndMatchesAFreshRun) {
   }
   EXPECT_EQ(global, 1);
   EXPECT_TRUE(pf.hierarchy.global_cap_is_disk(0.85));
+}
+
+TEST(Prongs, EndPointsAreDistinctBallsThatSeeThePeaks) {
+  const Mesh m = test::star(6, 3.0, 0.35);
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(m.V, m.F);
+  const dcg::ProngFeatures pf = dcg::compute_prongs(pm.working);
+  dcg::VoronoiBallsOptions vo;
+  vo.samples = 2000;
+  const dcg::Balls balls = dcg::compute_voronoi_balls(pm.working, *pm.query, vo);
+  const double min_radius = 0.001;
+  const dcg::EndPoints ends = dcg::find_end_points(pf.prongs, balls, *pm.query, min_radius);
+  ASSERT_EQ(ends.ball.size(), 6);
+  std::vector<int> seen;
+  for (Eigen::Index p = 0; p < 6; ++p) {
+    const int b = ends.ball[p];
+    ASSERT_GE(b, 0) << "prong " << p << " has no end point";
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), b), 0) << "shared end point";
+    seen.push_back(b);
+    EXPECT_GE(ends.radii[p], min_radius);
+    EXPECT_EQ(ends.centers.row(p), balls.centers.row(b));
+    const Eigen::Vector3d c = ends.centers.row(p).transpose(), peak = pf.prongs.positions.row(p).transpose();
+    EXPECT_TRUE(pm.query->inside(c));
+    // Near the tip (the arm radius is 0.35 of about 9.1 units of diagonal), and it sees the peak.
+    EXPECT_LT((c - peak).norm(), 0.35 / 9.1) << "prong " << p;
+    EXPECT_GE(pm.query->ray_hit(c, peak - c), (c - peak).norm() * 0.999);
+    // No closer ball of the same size class sees the peak unless another prong took it.
+    for (Eigen::Index q = 0; q < balls.radii.size(); ++q) {
+      if (balls.radii[q] < min_radius || (balls.centers.row(q).transpose() - peak).norm() >= (c - peak).norm())
+        continue;
+      const Eigen::Vector3d cq = balls.centers.row(q).transpose();
+      const bool sees = pm.query->ray_hit(cq, peak - cq) >= (cq - peak).norm() * 0.999;
+      EXPECT_TRUE(!sees || std::count(seen.begin(), seen.end(), static_cast<int>(q)) > 0)
+          << "ball " << q << " is closer and sees prong " << p;
+    }
+  }
 }
 
 // --- the public meshes ---------------------------------------------------------------------------

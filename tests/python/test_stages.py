@@ -96,6 +96,19 @@ def test_prongs_of_an_ellipsoid_and_rethresholding(ellipsoid):
         ex.prongs(tau="high")
 
 
+def test_end_points_are_distinct_stage1_balls_near_the_peaks(ellipsoid):
+    ex = dcg.Extractor(*ellipsoid, **FAST)
+    prongs, balls = ex.prongs(), ex.voronoi_balls()
+    ends = ex.end_points()
+    assert ends.centers.shape == (len(prongs.vertices), 3)
+    assert (ends.source >= 0).all() and len(set(ends.source.tolist())) == len(ends.source)
+    np.testing.assert_array_equal(ends.centers, balls.centers[ends.source])
+    np.testing.assert_array_equal(ends.radii, balls.radii[ends.source])
+    assert (ends.radii >= ex.options["min_radius"] / 2).all()
+    assert (np.linalg.norm(ends.centers - prongs.positions, axis=1) < 0.05).all()
+    assert "end_points" in [name for name, _ in ex.timings]
+
+
 def test_a_sphere_has_no_prong():
     ex = dcg.Extractor(*uv_sphere(24, 32), **FAST)
     assert len(ex.prongs().vertices) == 0

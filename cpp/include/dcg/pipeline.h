@@ -91,6 +91,9 @@ class Extractor {
   /// Stage 3 re-thresholded at another smoothness ratio: no new geodesics (InputError for tau
   /// outside (0, 1]).
   Prongs prongs_at(double tau);
+  /// Each prong's end point: a stage-1 ball (radius >= min_radius / 2) that sees its peak
+  /// (normalized units). Needs stages 0, 1 and 3.
+  const EndPoints& end_points();
   /// All stages: the skeleton in input coordinates.
   const Skeleton& skeleton();
   /// Seconds per stage run so far, in the order they ran.
@@ -108,6 +111,7 @@ class Extractor {
   std::optional<Balls> voronoi_;
   std::optional<DomainBalls> domain_;
   std::optional<ProngFeatures> prongs_;
+  std::optional<EndPoints> end_points_;
   std::optional<Skeleton> skeleton_;
   std::vector<std::pair<std::string, double>> timings_;
 };
