@@ -1,0 +1,153 @@
+// Stage 9 (ALGORITHM.md "Weights", beyond the paper): skinning weights by bone heat, computed on
+// the closed working mesh of stage 0 and carried to the input vertices through its map, so that
+// open, multi-part and non-manifold inputs are weighted too, at any scale.
+//
+// Bone heat (Baran & Popovic 2007, "Automatic rigging and animation of 3D characters"): the
+// weights w_i of bone i on the working mesh solve
+//
+//     (-L + M H) w_i = M H p_i
+//
+// L  #W by #W cotangent Laplacian (L_jk = (cot a + cot b) / 2, rows summing to 0),
+// M  #W diagonal vertex areas (a third of the incident triangles' areas),
+// H  #W diagonal heat: H_j = c / d_j^2, d_j the distance from vertex j to its nearest *visible*
+//    bone (the segment from the vertex to the bone's closest point does not cross the surface),
+// p_i  #W 1 where bone i is that nearest visible bone (1/k when k bones tie), else 0.
+//
+// (M^-1 L is the paper's area-normalized Laplacian; multiplying by M makes the matrix
+// symmetric positive definite, so one sparse Cholesky factorization (LDL^T) serves every bone.)
+// A vertex that sees no bone gets H_j = 0: its weights are whatever diffuses to it along the
+// surface from its neighbours. A connected part of the working mesh in which no vertex sees any
+// bone gets the nearest bone of each vertex instead (through the volume, visibility ignored), so
+// the system is never singular. Since the p_i sum to 1 wherever H > 0, the w_i sum to 1
+// everywhere; small negative values (obtuse triangles) are clipped.
+//
+// Everything runs in normalized units (bounding-box diagonal 1), so the result does not depend
+// on the input's scale: Blender's bone heat fails on small meshes, this does not.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "dcg/prepare.h"
+#include "dcg/progress.h"
+#include "dcg/types.h"
+
+namespace dcg {
+
+struct WeightsOptions {
+  /// Largest number of bones weighting one input vertex (the strongest are kept, then the row is
+  /// renormalized). Blender's Armature modifier takes any number; game engines want 4.
+  int max_influences = 4;
+  /// c of H = c / d^2 (Baran & Popovic use 1): larger values bind vertices more rigidly to their
+  /// nearest bone, smaller ones blend more widely.
+  double heat = 1.0;
+  /// Faint weights fade out: a weight w below min_weight becomes (w - m/2) / (m/2) * m with
+  /// m = min_weight, and 0 below m/2 (Blender's bone heat does the same with 0.05), so far
+  /// influences vanish without a visible step. The strongest bone of a vertex is always kept.
+  double min_weight = 0.05;
+  /// Bones within this relative distance of the nearest visible one count as equally near
+  /// (p = 1/k), as in Pinocchio: a vertex at a joint lies as near to both bones there.
+  double tie_tolerance = 1e-4;
+  /// Stage 0 options, used when the weights run stage 0 themselves (no PreparedMesh given).
+  PrepareOptions prepare;
+
+  /// Throws InputError naming the first option out of range.
+  void validate() const;
+};
+
+/// The bones weights are computed for: segments from heads to tails, in the coordinates of the
+/// mesh they weight (the input's for compute_skin_weights; Blender's world space in the add-on).
+struct Bones {
+  Points heads;  ///< #B by 3 bone heads
+  Points tails;  ///< #B by 3 bone tails
+  Eigen::Index count() const { return heads.rows(); }
+};
+
+/// Per-vertex bone weights as sparse triplets, sorted by vertex then by decreasing weight. Every
+/// vertex has between 1 and max_influences entries, positive, summing to 1.
+struct SkinWeights {
+  Eigen::VectorXi rows;     ///< #E vertex index of each entry (input vertices)
+  Eigen::VectorXi cols;     ///< #E bone index of each entry
+  Eigen::VectorXd values;   ///< #E weight of each entry, in (0, 1]
+  int vertex_count = 0;     ///< #V the rows index into
+  int bone_count = 0;       ///< #B the cols index into
+  // What happened, as data (ALGORITHM.md: failures are reported, never silent).
+  int working_vertices = 0;       ///< vertices of the working mesh the heat was solved on
+  int unseen_vertices = 0;        ///< working vertices that saw no bone (weights by diffusion)
+  int blind_components = 0;       ///< working-mesh parts that saw no bone at all (nearest bone used)
+  int fallback_vertices = 0;      ///< input vertices whose interpolated weights were all <= 0
+                                  ///< (given their nearest bone instead; should be 0)
+  /// Seconds per step ("prepare" when stage 0 ran here, "laplacian", "visibility", "factor",
+  /// "solve", "transfer"), then "total".
+  std::vector<std::pair<std::string, double>> timings;
+
+  /// The weights as a dense #V by #B matrix (tests, small meshes).
+  Eigen::MatrixXd dense() const;
+};
+
+/// Bone heat on a closed mesh, the reusable part: the cotangent Laplacian, the vertex areas and
+/// the ray-tracing structure are built once; solve() then takes any set of bones (an interactive
+/// bone-detail slider re-solves without rebuilding). Not thread-safe; solve() is parallel inside.
+class BoneHeat {
+ public:
+  /// `mesh` in any units (the working mesh of stage 0: normalized units, closed, oriented).
+  /// InputError when it has no faces or an index out of range.
+  explicit BoneHeat(const Mesh& mesh);
+  ~BoneHeat();
+  BoneHeat(BoneHeat&&) noexcept;
+  BoneHeat& operator=(BoneHeat&&) noexcept;
+
+  /// What solve() found besides the weights.
+  struct Report {
+    int unseen_vertices = 0;
+    int blind_components = 0;
+    std::vector<std::pair<std::string, double>> timings;  ///< "visibility", "factor", "solve"
+  };
+
+  /// #V by #B weights of the mesh's vertices for `bones` (in the mesh's coordinates), clipped to
+  /// [0, 1]; each row sums to about 1 (exactly 1 before clipping). `progress` gets the stage name
+  /// "weights" and fractions from `from` to `to`. Throws Cancelled, InputError (no bones, a
+  /// non-finite coordinate).
+  Eigen::MatrixXd solve(const Bones& bones, const WeightsOptions& options = {},
+                        const Progress& progress = Progress(), double from = 0, double to = 1,
+                        Report* report = nullptr) const;
+
+  /// The cotangent Laplacian L (#V by #V, negative semi-definite, rows summing to 0).
+  const Eigen::SparseMatrix<double>& laplacian() const;
+  /// The #V vertex areas (a third of the incident triangles' areas).
+  const Eigen::VectorXd& areas() const;
+  /// Index of the nearest visible bone of each vertex (-1: sees none) and the distance to it
+  /// (infinity when none), ties resolved to the lowest index.
+  void nearest_visible_bones(const Bones& bones, Eigen::VectorXi& bone,
+                             Eigen::VectorXd& distance) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Skinning weights of the input vertices of `prepared` (stage 0's result) for `bones` in the
+/// INPUT's coordinates: bone heat on the working mesh, interpolated at each input vertex's
+/// mapped point (map_face, map_barycentric), then pruned to max_influences and normalized.
+/// The weights are for #V = prepared.map_face.size() vertices. Throws InputError, Cancelled.
+SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bones,
+                                 const WeightsOptions& options = {},
+                                 ProgressCallback progress = {});
+
+/// The same from the input mesh itself: runs stage 0 with options.prepare first.
+/// V #V by 3, F #F by 3 indices into V; bones in V's coordinates.
+SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
+                                 const WeightsOptions& options = {},
+                                 ProgressCallback progress = {});
+
+/// Distance from p to the segment a-b; `t` (if given) receives the parameter of the closest
+/// point a + t (b - a), in [0, 1].
+double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                              const Eigen::Vector3d& b, double* t = nullptr);
+
+}  // namespace dcg

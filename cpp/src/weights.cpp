@@ -1,0 +1,552 @@
+// Stage 9: bone heat weights on the working mesh, carried to the input vertices. See
+// dcg/weights.h for the equations.
+//
+// Cost on the default working mesh (~10,000 vertices): the Laplacian and the Embree scene a few
+// milliseconds; visibility one occlusion ray per vertex and bone tried, nearest bone first (most
+// vertices see their nearest bone: about one ray each); one LDL^T factorization with AMD
+// ordering (tens of milliseconds); one pair of triangular solves per bone, bones in parallel
+// (SimplicialLDLT::solve is const and allocates its own temporaries, so concurrent solves are
+// safe). The transfer to the input is a few multiply-adds per input vertex and bone.
+#include "dcg/weights.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/SparseCholesky>
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "dcg/errors.h"
+
+namespace dcg {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// One Embree device for the weights (creating one costs a few milliseconds); never released.
+RTCDevice embree_device() {
+  static RTCDevice device = [] {
+    RTCDevice d = rtcNewDevice(nullptr);
+    if (!d) throw std::runtime_error("Embree: cannot create a device");
+    return d;
+  }();
+  return device;
+}
+
+// cot of the angle between u and v, bounded so that a needle triangle cannot make the matrix
+// explode (|cot| <= 1e4 is an angle of 0.006 degrees).
+double cotangent(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  const double s = u.cross(v).norm();
+  const double c = u.dot(v);
+  constexpr double kMax = 1e4;
+  if (s <= std::abs(c) / kMax) return c >= 0 ? kMax : -kMax;
+  return c / s;
+}
+
+// Union-find over the vertices through the faces: a component label per vertex (0..count-1).
+Eigen::VectorXi vertex_components(int nv, const Faces& F, int& count) {
+  std::vector<int> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const int a = find(F(f, 0));
+    for (int k = 1; k < 3; ++k) {
+      const int b = find(F(f, k));
+      if (a != b) parent[b] = a;
+    }
+  }
+  Eigen::VectorXi label = Eigen::VectorXi::Constant(nv, -1);
+  std::vector<int> root_label(nv, -1);
+  count = 0;
+  for (int v = 0; v < nv; ++v) {
+    const int r = find(v);
+    if (root_label[r] < 0) root_label[r] = count++;
+    label[v] = root_label[r];
+  }
+  return label;
+}
+
+void check_bones(const Bones& bones) {
+  if (bones.heads.rows() != bones.tails.rows()) {
+    throw InputError("bones need as many tails as heads, got " +
+                     std::to_string(bones.heads.rows()) + " heads and " +
+                     std::to_string(bones.tails.rows()) + " tails");
+  }
+  if (bones.count() == 0) throw InputError("weights need at least one bone");
+  for (Eigen::Index b = 0; b < bones.count(); ++b) {
+    if (!bones.heads.row(b).allFinite() || !bones.tails.row(b).allFinite()) {
+      throw InputError("bone " + std::to_string(b) + " has a non-finite coordinate");
+    }
+  }
+}
+
+}  // namespace
+
+double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                              const Eigen::Vector3d& b, double* t) {
+  const Eigen::Vector3d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  double s = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  if (t) *t = s;
+  return (p - (a + s * ab)).norm();
+}
+
+void WeightsOptions::validate() const {
+  if (max_influences < 1 || max_influences > 64) {
+    throw InputError("max_influences must be in [1, 64], got " + std::to_string(max_influences));
+  }
+  if (!std::isfinite(heat) || heat <= 0 || heat > 1e6) {
+    throw InputError("heat must be in (0, 1e6], got " + std::to_string(heat));
+  }
+  if (!std::isfinite(min_weight) || min_weight < 0 || min_weight >= 1) {
+    throw InputError("min_weight must be in [0, 1), got " + std::to_string(min_weight));
+  }
+  if (!std::isfinite(tie_tolerance) || tie_tolerance < 0 || tie_tolerance > 1) {
+    throw InputError("tie_tolerance must be in [0, 1], got " + std::to_string(tie_tolerance));
+  }
+}
+
+Eigen::MatrixXd SkinWeights::dense() const {
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(vertex_count, bone_count);
+  for (Eigen::Index e = 0; e < rows.size(); ++e) W(rows[e], cols[e]) += values[e];
+  return W;
+}
+
+// ------------------------------------------------------------------------------------------------
+// BoneHeat
+
+namespace {
+
+// The heat sources of one vertex: H and the bones sharing it (p = 1 / count).
+struct Source {
+  double distance = std::numeric_limits<double>::infinity();  // to the nearest visible bone
+  int first = -1;   // nearest visible bone (lowest index among ties), -1: none
+  std::vector<int> tied;  // every bone within the tie tolerance (first included); empty: none
+};
+
+}  // namespace
+
+struct BoneHeat::Impl {
+  Vertices V;
+  Faces F;
+  Eigen::SparseMatrix<double> L;   // cotangent Laplacian (negative semi-definite)
+  Eigen::SparseMatrix<double> K;   // -L, lower triangle only (what the factorization reads)
+  Eigen::VectorXd area;            // vertex areas
+  Eigen::VectorXi component;       // connected component of each vertex
+  int component_count = 0;
+  Eigen::RowVector3d center = Eigen::RowVector3d::Zero();  // subtracted before Embree's floats
+  double mean_edge = 0;
+  RTCScene scene = nullptr;
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+  }
+
+  // True when the segment from surface vertex v to point q does not cross the surface (the
+  // first and last `margin` of it are not tested: v lies on its own faces).
+  bool visible(int v, const Eigen::Vector3d& q, double margin) const {
+    const Eigen::Vector3d o = V.row(v).transpose();
+    Eigen::Vector3d d = q - o;
+    const double length = d.norm();
+    if (length <= 2 * margin) return true;
+    d /= length;
+    const Eigen::Vector3d oc = o - center.transpose();
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray;
+    ray.org_x = static_cast<float>(oc.x());
+    ray.org_y = static_cast<float>(oc.y());
+    ray.org_z = static_cast<float>(oc.z());
+    ray.dir_x = static_cast<float>(d.x());
+    ray.dir_y = static_cast<float>(d.y());
+    ray.dir_z = static_cast<float>(d.z());
+    ray.tnear = static_cast<float>(margin);
+    ray.tfar = static_cast<float>(length - margin);
+    ray.time = 0.f;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    rtcOccluded1(scene, &context, &ray);
+    return ray.tfar >= 0;  // Embree sets tfar to -inf when the segment hits the surface
+  }
+
+  // Nearest visible bones of every vertex of `m` (see BoneHeat::Impl::visible). With `blind`,
+  // visibility is ignored (the nearest bones through the volume).
+  void find_sources(const Bones& bones, double tie_tolerance,
+                    const std::vector<int>& vertices, bool blind, std::vector<Source>& out) const {
+    const Impl& m = *this;
+    const int nb = static_cast<int>(bones.count());
+    const double margin = 1e-2 * m.mean_edge;
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, vertices.size(), 256),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          std::vector<std::pair<double, int>> order(nb);
+          std::vector<Eigen::Vector3d> closest(nb);
+          for (std::size_t r = range.begin(); r != range.end(); ++r) {
+            const int v = vertices[r];
+            const Eigen::Vector3d p = m.V.row(v).transpose();
+            for (int b = 0; b < nb; ++b) {
+              const Eigen::Vector3d a = bones.heads.row(b).transpose();
+              const Eigen::Vector3d c = bones.tails.row(b).transpose();
+              double t = 0;
+              order[b] = {point_segment_distance(p, a, c, &t), b};
+              closest[b] = a + t * (c - a);
+            }
+            std::sort(order.begin(), order.end());
+            Source& s = out[v];
+            s = Source();
+            for (int k = 0; k < nb; ++k) {
+              const auto [d, b] = order[k];
+              if (std::isfinite(s.distance) && d > s.distance * (1 + tie_tolerance) + 1e-15) break;
+              if (blind || m.visible(v, closest[b], margin)) {
+                if (s.tied.empty()) s.distance = d;
+                s.tied.push_back(b);
+              }
+            }
+            if (!s.tied.empty()) {
+              std::sort(s.tied.begin(), s.tied.end());
+              s.first = s.tied.front();
+            }
+          }
+        });
+  }
+};
+
+BoneHeat::BoneHeat(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.V = mesh.V;
+  m.F = mesh.F;
+  const int nv = static_cast<int>(m.V.rows());
+  const int nf = static_cast<int>(m.F.rows());
+  if (nf == 0 || nv == 0) throw InputError("bone heat needs a mesh with faces");
+  if (!m.V.allFinite()) throw InputError("bone heat: the mesh has a non-finite coordinate");
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k)
+      if (m.F(f, k) < 0 || m.F(f, k) >= nv) {
+        throw InputError("bone heat: face " + std::to_string(f) + " has vertex index " +
+                         std::to_string(m.F(f, k)) + ", outside [0, " + std::to_string(nv) + ")");
+      }
+
+  // Cotangent Laplacian and vertex areas.
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(nf) * 12);
+  m.area = Eigen::VectorXd::Zero(nv);
+  double edge_sum = 0;
+  for (int f = 0; f < nf; ++f) {
+    const int idx[3] = {m.F(f, 0), m.F(f, 1), m.F(f, 2)};
+    const Eigen::Vector3d p[3] = {m.V.row(idx[0]).transpose(), m.V.row(idx[1]).transpose(),
+                                  m.V.row(idx[2]).transpose()};
+    const double a = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+    for (int k = 0; k < 3; ++k) {
+      m.area[idx[k]] += a / 3.0;
+      // The angle at corner k weighs the opposite edge (i, j).
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      const double w = 0.5 * cotangent(p[i] - p[k], p[j] - p[k]);
+      triplets.emplace_back(idx[i], idx[j], w);
+      triplets.emplace_back(idx[j], idx[i], w);
+      triplets.emplace_back(idx[i], idx[i], -w);
+      triplets.emplace_back(idx[j], idx[j], -w);
+      edge_sum += (p[j] - p[i]).norm();
+    }
+  }
+  m.mean_edge = edge_sum / (3.0 * nf);
+  m.L.resize(nv, nv);
+  m.L.setFromTriplets(triplets.begin(), triplets.end());
+  m.K = (-m.L).triangularView<Eigen::Lower>();
+  // A vertex without area (unreferenced, or only on degenerate faces) would give a zero row
+  // under H: give it a tiny one.
+  const double floor_area = 1e-12 * std::max(m.area.maxCoeff(), 1e-300);
+  for (int v = 0; v < nv; ++v) m.area[v] = std::max(m.area[v], floor_area);
+
+  m.component = vertex_components(nv, m.F, m.component_count);
+
+  // The Embree scene.
+  m.center = 0.5 * (m.V.colwise().minCoeff() + m.V.colwise().maxCoeff());
+  RTCDevice device = embree_device();
+  m.scene = rtcNewScene(device);
+  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                         RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nf));
+  if (!vb || !ib) {
+    rtcReleaseGeometry(geometry);
+    throw std::runtime_error("Embree: cannot allocate the mesh buffers");
+  }
+  for (int i = 0; i < nv; ++i)
+    for (int k = 0; k < 3; ++k) vb[3 * i + k] = static_cast<float>(m.V(i, k) - m.center[k]);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) ib[3 * f + k] = static_cast<unsigned>(m.F(f, k));
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometry(m.scene, geometry);
+  rtcReleaseGeometry(geometry);
+  rtcCommitScene(m.scene);
+}
+
+BoneHeat::~BoneHeat() = default;
+BoneHeat::BoneHeat(BoneHeat&&) noexcept = default;
+BoneHeat& BoneHeat::operator=(BoneHeat&&) noexcept = default;
+
+const Eigen::SparseMatrix<double>& BoneHeat::laplacian() const { return impl_->L; }
+const Eigen::VectorXd& BoneHeat::areas() const { return impl_->area; }
+
+void BoneHeat::nearest_visible_bones(const Bones& bones, Eigen::VectorXi& bone,
+                                     Eigen::VectorXd& distance) const {
+  check_bones(bones);
+  const int nv = static_cast<int>(impl_->V.rows());
+  std::vector<int> all(nv);
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<Source> sources(nv);
+  impl_->find_sources(bones, 0.0, all, false, sources);
+  bone.resize(nv);
+  distance.resize(nv);
+  for (int v = 0; v < nv; ++v) {
+    bone[v] = sources[v].first;
+    distance[v] = sources[v].distance;
+  }
+}
+
+Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& options,
+                                const Progress& progress, double from, double to,
+                                Report* report) const {
+  options.validate();
+  check_bones(bones);
+  const Impl& m = *impl_;
+  const int nv = static_cast<int>(m.V.rows());
+  const int nb = static_cast<int>(bones.count());
+  Report local;
+  Report& rep = report ? *report : local;
+  rep = Report();
+  auto at = [&](double f) { progress.report("weights", from + (to - from) * f); };
+  at(0);
+
+  // Heat sources: the nearest visible bone(s) of every vertex.
+  auto start = Clock::now();
+  std::vector<int> all(nv);
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<Source> sources(nv);
+  m.find_sources(bones, options.tie_tolerance, all, false, sources);
+  // Parts of the mesh where no vertex sees a bone: the nearest bones through the volume.
+  std::vector<char> sees(m.component_count, 0);
+  for (int v = 0; v < nv; ++v)
+    if (sources[v].first >= 0) sees[m.component[v]] = 1;
+  std::vector<int> blind;
+  for (int v = 0; v < nv; ++v) {
+    if (sources[v].first < 0) ++rep.unseen_vertices;
+    if (!sees[m.component[v]]) blind.push_back(v);
+  }
+  rep.blind_components = static_cast<int>(std::count(sees.begin(), sees.end(), 0));
+  if (!blind.empty()) m.find_sources(bones, options.tie_tolerance, blind, true, sources);
+  rep.timings.emplace_back("visibility", seconds_since(start));
+  at(0.25);
+
+  // (K + M H) w_b = M H p_b, K = -L.
+  start = Clock::now();
+  const double min_distance = 1e-2 * m.mean_edge;
+  Eigen::VectorXd mh = Eigen::VectorXd::Zero(nv);
+  std::vector<std::vector<std::pair<int, double>>> rhs(nb);  // per bone: (vertex, M H p)
+  for (int v = 0; v < nv; ++v) {
+    const Source& s = sources[v];
+    if (s.tied.empty()) continue;
+    const double d = std::max(s.distance, min_distance);
+    mh[v] = m.area[v] * options.heat / (d * d);
+    const double share = mh[v] / static_cast<double>(s.tied.size());
+    for (int b : s.tied) rhs[b].emplace_back(v, share);
+  }
+  Eigen::SparseMatrix<double> A = m.K;
+  for (int v = 0; v < nv; ++v) A.coeffRef(v, v) += mh[v];
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(A);
+  if (solver.info() != Eigen::Success) {
+    // Not expected (K + M H is positive definite once every part has a source); a touch of
+    // screening (M) makes it so whatever happened.
+    for (int v = 0; v < nv; ++v) A.coeffRef(v, v) += 1e-8 * m.area[v] * options.heat;
+    solver.compute(A);
+    if (solver.info() != Eigen::Success) {
+      throw std::runtime_error("bone heat: the sparse factorization failed");
+    }
+  }
+  rep.timings.emplace_back("factor", seconds_since(start));
+  at(0.4);
+
+  // One solve per bone, in parallel batches (progress and cancellation between batches).
+  start = Clock::now();
+  Eigen::MatrixXd W(nv, nb);
+  const int batch = std::max(4, 2 * tbb::this_task_arena::max_concurrency());
+  for (int b0 = 0; b0 < nb; b0 += batch) {
+    const int b1 = std::min(nb, b0 + batch);
+    tbb::parallel_for(b0, b1, [&](int b) {
+      Eigen::VectorXd rhs_b = Eigen::VectorXd::Zero(nv);
+      for (const auto& [v, value] : rhs[b]) rhs_b[v] = value;
+      if (rhs[b].empty()) {
+        W.col(b).setZero();  // a bone no vertex has as nearest: no heat of its own
+      } else {
+        W.col(b) = solver.solve(rhs_b);
+      }
+    });
+    at(0.4 + 0.6 * static_cast<double>(b1) / nb);
+  }
+  W = W.cwiseMax(0.0).cwiseMin(1.0);
+  rep.timings.emplace_back("solve", seconds_since(start));
+  return W;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Skinning weights of the input vertices
+
+namespace {
+
+// compute_skin_weights with progress fractions from `from` to `to` of the caller's whole run.
+SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
+                         const WeightsOptions& options, const Progress& progress, double from,
+                         double to) {
+  options.validate();
+  check_bones(bones);
+  const auto total_start = Clock::now();
+  auto at = [&](double f) { return from + (to - from) * f; };
+  const Mesh& working = prepared.working;
+  const int n_in = static_cast<int>(prepared.map_face.size());
+  if (prepared.map_barycentric.rows() != n_in) {
+    throw InputError("the prepared mesh's map has " + std::to_string(n_in) + " faces but " +
+                     std::to_string(prepared.map_barycentric.rows()) + " barycentric rows");
+  }
+  if (!(prepared.scale > 0) || !std::isfinite(prepared.scale)) {
+    throw InputError("the prepared mesh's scale must be positive");
+  }
+  for (int i = 0; i < n_in; ++i) {
+    if (prepared.map_face[i] < 0 || prepared.map_face[i] >= working.F.rows()) {
+      throw InputError("input vertex " + std::to_string(i) + " maps to face " +
+                       std::to_string(prepared.map_face[i]) + ", outside the working mesh");
+    }
+  }
+  const int nb = static_cast<int>(bones.count());
+  SkinWeights out;
+  out.vertex_count = n_in;
+  out.bone_count = nb;
+  out.working_vertices = static_cast<int>(working.V.rows());
+
+  // Bones in normalized units, like the working mesh.
+  Bones normalized;
+  normalized.heads = (bones.heads.rowwise() - prepared.offset) / prepared.scale;
+  normalized.tails = (bones.tails.rowwise() - prepared.offset) / prepared.scale;
+
+  auto start = Clock::now();
+  progress.report("weights", at(0));
+  BoneHeat heat(working);
+  out.timings.emplace_back("laplacian", seconds_since(start));
+  BoneHeat::Report report;
+  const Eigen::MatrixXd W = heat.solve(normalized, options, progress, at(0.05), at(0.9), &report);
+  out.timings.insert(out.timings.end(), report.timings.begin(), report.timings.end());
+  out.unseen_vertices = report.unseen_vertices;
+  out.blind_components = report.blind_components;
+
+  // Interpolate at each input vertex's point of the working mesh; keep the strongest bones.
+  start = Clock::now();
+  const int keep = std::min(options.max_influences, nb);
+  Eigen::MatrixXi top_bone = Eigen::MatrixXi::Constant(n_in, keep, -1);
+  Eigen::MatrixXd top_value = Eigen::MatrixXd::Zero(n_in, keep);
+  std::vector<char> fallback(n_in, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, n_in, 512), [&](const tbb::blocked_range<int>& r) {
+    Eigen::RowVectorXd row(nb);
+    std::vector<int> order(nb);
+    for (int i = r.begin(); i != r.end(); ++i) {
+      const int f = prepared.map_face[i];
+      row.setZero();
+      for (int c = 0; c < 3; ++c) row += prepared.map_barycentric(i, c) * W.row(working.F(f, c));
+      std::iota(order.begin(), order.end(), 0);
+      std::partial_sort(order.begin(), order.begin() + keep, order.end(),
+                        [&](int a, int b) { return row[a] > row[b] || (row[a] == row[b] && a < b); });
+      const double best = row[order[0]];
+      if (!(best > 0)) {
+        // Nothing reached this vertex (not expected): its nearest bone, through the volume.
+        fallback[i] = 1;
+        const Eigen::Vector3d p =
+            ((working.V.row(working.F(f, 0)) * prepared.map_barycentric(i, 0) +
+              working.V.row(working.F(f, 1)) * prepared.map_barycentric(i, 1) +
+              working.V.row(working.F(f, 2)) * prepared.map_barycentric(i, 2)))
+                .transpose();
+        int nearest = 0;
+        double nearest_d = std::numeric_limits<double>::infinity();
+        for (int b = 0; b < nb; ++b) {
+          const double d = point_segment_distance(p, normalized.heads.row(b).transpose(),
+                                                  normalized.tails.row(b).transpose());
+          if (d < nearest_d) nearest_d = d, nearest = b;
+        }
+        top_bone(i, 0) = nearest;
+        top_value(i, 0) = 1.0;
+        continue;
+      }
+      // The strongest bone always; the others faded out below min_weight (see weights.h).
+      const double m = options.min_weight;
+      double sum = 0;
+      for (int k = 0; k < keep; ++k) {
+        double value = row[order[k]];
+        if (k > 0 && value < m) value = value < 0.5 * m ? 0.0 : (value - 0.5 * m) / (0.5 * m) * m;
+        if (!(value > 0)) break;
+        top_bone(i, k) = order[k];
+        top_value(i, k) = value;
+        sum += value;
+      }
+      top_value.row(i) /= sum;
+    }
+  });
+  out.fallback_vertices = static_cast<int>(std::count(fallback.begin(), fallback.end(), 1));
+
+  // Compact into triplets (by vertex, then by decreasing weight).
+  const Eigen::Index entries = (top_bone.array() >= 0).count();
+  out.rows.resize(entries);
+  out.cols.resize(entries);
+  out.values.resize(entries);
+  Eigen::Index e = 0;
+  for (int i = 0; i < n_in; ++i) {
+    for (int k = 0; k < keep && top_bone(i, k) >= 0; ++k, ++e) {
+      out.rows[e] = i;
+      out.cols[e] = top_bone(i, k);
+      out.values[e] = top_value(i, k);
+    }
+  }
+  out.timings.emplace_back("transfer", seconds_since(start));
+  progress.report("weights", at(1));
+  out.timings.emplace_back("total", seconds_since(total_start));
+  return out;
+}
+
+}  // namespace
+
+SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bones,
+                                 const WeightsOptions& options, ProgressCallback callback) {
+  return skin_weights(prepared, bones, options, Progress(std::move(callback)), 0, 1);
+}
+
+SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
+                                 const WeightsOptions& options, ProgressCallback callback) {
+  options.validate();
+  check_bones(bones);
+  const auto start = Clock::now();
+  const Progress progress(std::move(callback));
+  progress.report("prepare", 0.0);
+  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare);
+  const double prepare_seconds = seconds_since(start);
+  SkinWeights out = skin_weights(prepared, bones, options, progress, 0.5, 1.0);
+  out.timings.insert(out.timings.begin(), {"prepare", prepare_seconds});
+  out.timings.back().second += prepare_seconds;
+  return out;
+}
+
+}  // namespace dcg

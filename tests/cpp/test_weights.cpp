@@ -1,0 +1,421 @@
+// dcg/weights.h (stage 9): the cotangent Laplacian, nearest visible bones, bone heat on small
+// shapes (monotonic across a joint, one bone per part, blind parts), the transfer to the input
+// vertices (rows sum to 1, at most max_influences), scale invariance, errors and cancellation.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dcg/errors.h"
+#include "dcg/io.h"
+#include "dcg/prepare.h"
+#include "dcg/weights.h"
+
+namespace {
+
+using dcg::Bones;
+using dcg::Mesh;
+
+// --- small shapes (self-contained: these tests need nothing else) -----------------------------
+
+// Capsule along z: cylinder of `radius` from z = -length/2 to length/2 closed by hemispheres;
+// vertices in latitude rings of `segments` (the ring index is returned in `ring`).
+Mesh capsule(double radius, double length, std::vector<int>* ring = nullptr, int rings = 10,
+             int segments = 24, int sections = 24) {
+  std::vector<std::pair<double, double>> rows;  // (z, ring radius), top to bottom
+  for (int i = 1; i <= rings; ++i) {
+    const double theta = 0.5 * M_PI * i / rings;
+    rows.emplace_back(0.5 * length + radius * std::cos(theta), radius * std::sin(theta));
+  }
+  for (int i = 1; i < sections; ++i) rows.emplace_back(0.5 * length - length * i / sections, radius);
+  for (int i = 0; i < rings; ++i) {
+    const double theta = 0.5 * M_PI + 0.5 * M_PI * i / rings;
+    rows.emplace_back(-0.5 * length + radius * std::cos(theta), radius * std::sin(theta));
+  }
+  const int nrows = static_cast<int>(rows.size());
+  Mesh m;
+  m.V.resize(2 + nrows * segments, 3);
+  std::vector<int> rid(m.V.rows());
+  m.V.row(0) << 0, 0, 0.5 * length + radius;
+  rid[0] = -1;
+  for (int r = 0; r < nrows; ++r)
+    for (int j = 0; j < segments; ++j) {
+      const double phi = 2 * M_PI * j / segments;
+      m.V.row(1 + r * segments + j) << rows[r].second * std::cos(phi),
+          rows[r].second * std::sin(phi), rows[r].first;
+      rid[1 + r * segments + j] = r;
+    }
+  const int bottom = static_cast<int>(m.V.rows()) - 1;
+  m.V.row(bottom) << 0, 0, -0.5 * length - radius;
+  rid[bottom] = nrows;
+  auto id = [&](int r, int j) { return 1 + r * segments + (j + segments) % segments; };
+  std::vector<std::array<int, 3>> F;
+  for (int j = 0; j < segments; ++j) {
+    F.push_back({0, id(0, j), id(0, j + 1)});
+    F.push_back({bottom, id(nrows - 1, j + 1), id(nrows - 1, j)});
+  }
+  for (int r = 0; r + 1 < nrows; ++r)
+    for (int j = 0; j < segments; ++j) {
+      F.push_back({id(r, j), id(r + 1, j), id(r + 1, j + 1)});
+      F.push_back({id(r, j), id(r + 1, j + 1), id(r, j + 1)});
+    }
+  m.F.resize(static_cast<Eigen::Index>(F.size()), 3);
+  for (std::size_t f = 0; f < F.size(); ++f) m.F.row(f) << F[f][0], F[f][1], F[f][2];
+  if (ring) *ring = rid;
+  return m;
+}
+
+// UV sphere of `radius` at `center`: `rings` latitude steps, `segments` around.
+Mesh sphere(const Eigen::RowVector3d& center, double radius, int rings = 12, int segments = 20) {
+  Mesh m;
+  m.V.resize(2 + (rings - 1) * segments, 3);
+  m.V.row(0) << 0, 0, radius;
+  for (int r = 1; r < rings; ++r)
+    for (int j = 0; j < segments; ++j) {
+      const double theta = M_PI * r / rings, phi = 2 * M_PI * j / segments;
+      m.V.row(1 + (r - 1) * segments + j) << radius * std::sin(theta) * std::cos(phi),
+          radius * std::sin(theta) * std::sin(phi), radius * std::cos(theta);
+    }
+  const int bottom = static_cast<int>(m.V.rows()) - 1;
+  m.V.row(bottom) << 0, 0, -radius;
+  m.V.rowwise() += center;
+  auto id = [&](int r, int j) { return 1 + (r - 1) * segments + (j + segments) % segments; };
+  std::vector<std::array<int, 3>> F;
+  for (int j = 0; j < segments; ++j) {
+    F.push_back({0, id(1, j), id(1, j + 1)});
+    F.push_back({bottom, id(rings - 1, j + 1), id(rings - 1, j)});
+  }
+  for (int r = 1; r + 1 < rings; ++r)
+    for (int j = 0; j < segments; ++j) {
+      F.push_back({id(r, j), id(r + 1, j), id(r + 1, j + 1)});
+      F.push_back({id(r, j), id(r + 1, j + 1), id(r, j + 1)});
+    }
+  m.F.resize(static_cast<Eigen::Index>(F.size()), 3);
+  for (std::size_t f = 0; f < F.size(); ++f) m.F.row(f) << F[f][0], F[f][1], F[f][2];
+  return m;
+}
+
+Mesh merged(const Mesh& a, const Mesh& b) {
+  Mesh m;
+  m.V.resize(a.V.rows() + b.V.rows(), 3);
+  m.V << a.V, b.V;
+  m.F.resize(a.F.rows() + b.F.rows(), 3);
+  m.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
+  return m;
+}
+
+Bones bones_from(std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> list) {
+  Bones b;
+  b.heads.resize(static_cast<Eigen::Index>(list.size()), 3);
+  b.tails.resize(static_cast<Eigen::Index>(list.size()), 3);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    b.heads.row(i) = list[i].first.transpose();
+    b.tails.row(i) = list[i].second.transpose();
+  }
+  return b;
+}
+
+// A two-bone chain along the capsule's axis, jointed at z = 0.
+Bones chain() { return bones_from({{{0, 0, -1.2}, {0, 0, 0}}, {{0, 0, 0}, {0, 0, 1.2}}}); }
+
+dcg::WeightsOptions keep_input() {
+  dcg::WeightsOptions o;
+  o.prepare.target_faces = 0;
+  return o;
+}
+
+// Every vertex has 1..max entries, positive, summing to 1; rows sorted, cols in range.
+void expect_valid(const dcg::SkinWeights& w, int vertex_count, int bone_count, int max = 4) {
+  ASSERT_EQ(w.vertex_count, vertex_count);
+  ASSERT_EQ(w.bone_count, bone_count);
+  ASSERT_EQ(w.rows.size(), w.cols.size());
+  ASSERT_EQ(w.rows.size(), w.values.size());
+  std::vector<int> count(vertex_count, 0);
+  std::vector<double> sum(vertex_count, 0.0);
+  for (Eigen::Index e = 0; e < w.rows.size(); ++e) {
+    ASSERT_GE(w.rows[e], 0);
+    ASSERT_LT(w.rows[e], vertex_count);
+    ASSERT_GE(w.cols[e], 0);
+    ASSERT_LT(w.cols[e], bone_count);
+    ASSERT_GT(w.values[e], 0.0);
+    if (e > 0) { ASSERT_LE(w.rows[e - 1], w.rows[e]); }
+    ++count[w.rows[e]];
+    sum[w.rows[e]] += w.values[e];
+  }
+  int bad = 0;
+  for (int v = 0; v < vertex_count; ++v)
+    if (count[v] < 1 || count[v] > max || std::abs(sum[v] - 1) > 1e-9) ++bad;
+  EXPECT_EQ(bad, 0) << "vertices with no weights, too many or not summing to 1";
+  EXPECT_EQ(w.fallback_vertices, 0);
+}
+
+// --- the Laplacian ----------------------------------------------------------------------------
+
+TEST(WeightsLaplacian, SymmetricRowsSumToZeroAreasSumToTheSurface) {
+  const Mesh m = sphere(Eigen::RowVector3d::Zero(), 1.0, 24, 40);
+  dcg::BoneHeat heat(m);
+  const Eigen::SparseMatrix<double>& L = heat.laplacian();
+  const Eigen::MatrixXd D = L.toDense();
+  EXPECT_LT((D - D.transpose()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT(D.rowwise().sum().cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_NEAR(heat.areas().sum(), 4 * M_PI, 0.1);  // the polygon is a little smaller
+  // -L is positive semi-definite: x^T (-L) x = sum of w_ij (x_i - x_j)^2 >= 0 for x = z.
+  const Eigen::VectorXd z = m.V.col(2);
+  EXPECT_GT(-z.dot(L * z), 0.0);
+  // L x = -2 H n A on a sphere (the mean curvature normal): L z ~ -2 z A / r^2 (as a whole: the
+  // skinny triangles at the poles of a UV sphere make single vertices less accurate).
+  const Eigen::VectorXd expected = -2 * z.cwiseProduct(heat.areas());
+  EXPECT_LT((L * z - expected).norm(), 0.05 * expected.norm());
+}
+
+// --- nearest visible bones ----------------------------------------------------------------------
+
+TEST(WeightsVisibility, EachSphereSeesOnlyTheBoneInsideIt) {
+  // Two spheres 0.2 apart; the other sphere's bone is nearer to the facing side of each than
+  // its own bone, but behind the other sphere's surface.
+  const Mesh a = sphere(Eigen::RowVector3d(0, 0, 0), 1.0);
+  const Mesh b = sphere(Eigen::RowVector3d(2.2, 0, 0), 1.0);
+  const Mesh m = merged(a, b);
+  // Bone 0 along a's far side, bone 1 near the facing side of b: the facing side of a is
+  // nearer to bone 1 (0.3 away from b's surface, 0.5 from a's) than to bone 0 (1.9 away).
+  const Bones bones = bones_from({{{-0.9, 0, -0.1}, {-0.9, 0, 0.1}}, {{1.5, 0, -0.1}, {1.5, 0, 0.1}}});
+  dcg::BoneHeat heat(m);
+  Eigen::VectorXi nearest;
+  Eigen::VectorXd distance;
+  heat.nearest_visible_bones(bones, nearest, distance);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    ASSERT_EQ(nearest[v], v < a.V.rows() ? 0 : 1) << "vertex " << v;
+    EXPECT_TRUE(std::isfinite(distance[v]));
+  }
+  const Eigen::MatrixXd W = heat.solve(bones);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+    EXPECT_NEAR(W(v, v < a.V.rows() ? 0 : 1), 1.0, 1e-6) << "vertex " << v;
+}
+
+TEST(WeightsVisibility, APartThatSeesNoBoneTakesTheNearestBoneThroughTheVolume) {
+  // Bone 0 inside sphere a, bone 1 above sphere b, outside everything: b's upper half sees
+  // bone 1 through empty space, its lower half sees no bone (bone 1 is behind b's own surface,
+  // bone 0 behind a's) and takes its weights by diffusion from the upper half.
+  const Mesh a = sphere(Eigen::RowVector3d(0, 0, 0), 1.0);
+  const Mesh b = sphere(Eigen::RowVector3d(5, 0, 0), 1.0);
+  const Mesh m = merged(a, b);
+  const Bones bones = bones_from({{{0, 0, -0.5}, {0, 0, 0.5}}, {{5, 0, 3}, {5, 0, 4}}});
+  dcg::BoneHeat heat(m);
+  dcg::BoneHeat::Report report;
+  const Eigen::MatrixXd W = heat.solve(bones, {}, dcg::Progress(), 0, 1, &report);
+  EXPECT_EQ(report.blind_components, 0);
+  EXPECT_GT(report.unseen_vertices, 0);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    EXPECT_NEAR(W.row(v).sum(), 1.0, 1e-6) << "vertex " << v;
+    EXPECT_NEAR(W(v, v < a.V.rows() ? 0 : 1), 1.0, 1e-6) << "vertex " << v;
+  }
+}
+
+TEST(WeightsVisibility, AClosedPartAroundNoBoneIsStillWeighted) {
+  // Sphere b is seen by no bone at all (bone 1 is inside a as well): b is blind and takes the
+  // nearest bone of each vertex through the volume.
+  const Mesh a = sphere(Eigen::RowVector3d(0, 0, 0), 1.0);
+  const Mesh b = sphere(Eigen::RowVector3d(5, 0, 0), 1.0);
+  const Mesh m = merged(a, b);
+  const Bones bones = bones_from({{{-0.5, 0, 0}, {0, 0, 0}}, {{0, 0, 0}, {0.5, 0, 0}}});
+  dcg::BoneHeat heat(m);
+  dcg::BoneHeat::Report report;
+  const Eigen::MatrixXd W = heat.solve(bones, {}, dcg::Progress(), 0, 1, &report);
+  EXPECT_EQ(report.blind_components, 1);
+  EXPECT_EQ(report.unseen_vertices, b.V.rows());
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    EXPECT_NEAR(W.row(v).sum(), 1.0, 1e-6) << "vertex " << v;
+    if (v >= a.V.rows()) { EXPECT_NEAR(W(v, 1), 1.0, 1e-6) << "vertex " << v; }
+  }
+}
+
+// --- bone heat ----------------------------------------------------------------------------------
+
+TEST(WeightsHeat, OneBoneWeighsEverythingOne) {
+  const Mesh m = capsule(0.5, 2.0);
+  const Bones one = bones_from({{{0, 0, -1}, {0, 0, 1}}});
+  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, one, keep_input());
+  expect_valid(w, static_cast<int>(m.V.rows()), 1, 1);
+  EXPECT_EQ(w.rows.size(), m.V.rows());
+  EXPECT_LT((w.values.array() - 1).abs().maxCoeff(), 1e-12);
+}
+
+TEST(WeightsHeat, CapsuleChainIsMonotonicAcrossTheJoint) {
+  std::vector<int> ring;
+  const Mesh m = capsule(0.5, 2.0, &ring);
+  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, chain(), keep_input());
+  expect_valid(w, static_cast<int>(m.V.rows()), 2);
+  const Eigen::MatrixXd W = w.dense();
+  // Mean weight of the upper bone per latitude ring, from the bottom pole to the top one.
+  std::map<double, std::pair<double, int>> by_z;  // z -> (sum, count)
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    auto& slot = by_z[std::round(m.V(v, 2) * 1e9) / 1e9];
+    slot.first += W(v, 1);
+    ++slot.second;
+  }
+  double previous = -1;
+  std::vector<std::pair<double, double>> profile;
+  for (const auto& [z, s] : by_z) {
+    const double mean = s.first / s.second;
+    profile.emplace_back(z, mean);
+    EXPECT_GE(mean, previous - 1e-9) << "not monotonic at z = " << z;
+    previous = mean;
+  }
+  // Far from the joint each end belongs to its own bone; at the joint they share.
+  EXPECT_LT(profile.front().second, 0.01);
+  EXPECT_GT(profile.back().second, 0.99);
+  for (const auto& [z, mean] : profile) {
+    if (std::abs(z) < 1e-9) { EXPECT_NEAR(mean, 0.5, 0.05); }
+    if (z < -0.05) { EXPECT_LT(mean, 0.5); }
+    if (z > 0.05) { EXPECT_GT(mean, 0.5); }
+  }
+  // Smooth fall-off: the blend spans some of the cylinder, not one ring.
+  int blended = 0;
+  for (const auto& [z, mean] : profile) blended += mean > 0.1 && mean < 0.9;
+  EXPECT_GE(blended, 3);
+  // Every vertex of a ring has about the same weight (the capsule is round).
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    const auto& s = by_z[std::round(m.V(v, 2) * 1e9) / 1e9];
+    EXPECT_NEAR(W(v, 1), s.first / s.second, 0.02) << "vertex " << v;
+  }
+}
+
+TEST(WeightsHeat, MaxInfluencesPrunesAndRenormalizes) {
+  const Mesh m = capsule(0.5, 2.0);
+  Bones four = bones_from({{{0, 0, -1.2}, {0, 0, -0.6}},
+                           {{0, 0, -0.6}, {0, 0, 0}},
+                           {{0, 0, 0}, {0, 0, 0.6}},
+                           {{0, 0, 0.6}, {0, 0, 1.2}}});
+  dcg::WeightsOptions o = keep_input();
+  o.min_weight = 0;
+  for (int max : {1, 2, 4}) {
+    o.max_influences = max;
+    const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, four, o);
+    expect_valid(w, static_cast<int>(m.V.rows()), 4, max);
+    if (max == 1) { EXPECT_EQ(w.rows.size(), m.V.rows()); }
+  }
+}
+
+TEST(WeightsHeat, SameWeightsAtEveryScale) {
+  const Mesh m = capsule(0.5, 2.0);
+  const Bones bones = chain();
+  const Eigen::MatrixXd reference = dcg::compute_skin_weights(m.V, m.F, bones, keep_input()).dense();
+  for (double scale : {0.01, 100.0}) {
+    const Eigen::RowVector3d shift(3, -2, 7);
+    Mesh s = m;
+    s.V = ((m.V * scale).rowwise() + shift * scale).eval();
+    Bones b = bones;
+    b.heads = ((bones.heads * scale).rowwise() + shift * scale).eval();
+    b.tails = ((bones.tails * scale).rowwise() + shift * scale).eval();
+    const dcg::SkinWeights w = dcg::compute_skin_weights(s.V, s.F, b, keep_input());
+    expect_valid(w, static_cast<int>(m.V.rows()), 2);
+    EXPECT_LT((w.dense() - reference).cwiseAbs().maxCoeff(), 1e-5) << "scale " << scale;
+  }
+}
+
+TEST(WeightsHeat, RemeshedWorkingMeshTransfersToTheInput) {
+  std::vector<int> ring;
+  const Mesh m = capsule(0.5, 2.0, &ring, 6, 16, 8);  // coarse input, remeshed finer
+  dcg::WeightsOptions o;
+  o.prepare.target_faces = 4000;
+  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, chain(), o);
+  expect_valid(w, static_cast<int>(m.V.rows()), 2);
+  EXPECT_GT(w.working_vertices, m.V.rows());
+  const Eigen::MatrixXd W = w.dense();
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+    if (m.V(v, 2) > 1.0) { EXPECT_GT(W(v, 1), 0.9) << "vertex " << v; }
+    if (m.V(v, 2) < -1.0) { EXPECT_GT(W(v, 0), 0.9) << "vertex " << v; }
+    if (m.V(v, 2) > 0.1) { EXPECT_GT(W(v, 1), 0.5) << "vertex " << v; }
+    if (m.V(v, 2) < -0.1) { EXPECT_GT(W(v, 0), 0.5) << "vertex " << v; }
+  }
+}
+
+TEST(WeightsHeat, OpenAndMultiPartInputIsWeightedEverywhere) {
+  // A capsule with its top cap removed, plus a small closed sphere floating inside it.
+  Mesh open = capsule(0.5, 2.0);
+  std::vector<std::array<int, 3>> kept;
+  for (Eigen::Index f = 0; f < open.F.rows(); ++f) {
+    const double z = (open.V(open.F(f, 0), 2) + open.V(open.F(f, 1), 2) + open.V(open.F(f, 2), 2)) / 3;
+    if (z < 1.2) kept.push_back({open.F(f, 0), open.F(f, 1), open.F(f, 2)});
+  }
+  open.F.resize(static_cast<Eigen::Index>(kept.size()), 3);
+  for (std::size_t f = 0; f < kept.size(); ++f) open.F.row(f) << kept[f][0], kept[f][1], kept[f][2];
+  const Mesh m = merged(open, sphere(Eigen::RowVector3d(0, 0, -0.5), 0.2, 6, 8));
+  dcg::WeightsOptions o;
+  o.prepare.target_faces = 4000;
+  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, chain(), o);
+  expect_valid(w, static_cast<int>(m.V.rows()), 2);
+}
+
+// --- errors and cancellation --------------------------------------------------------------------
+
+TEST(WeightsErrors, BadBonesAndOptionsAreInputErrors) {
+  const Mesh m = capsule(0.5, 2.0);
+  Bones none;
+  none.heads.resize(0, 3);
+  none.tails.resize(0, 3);
+  EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, none, keep_input()), dcg::InputError);
+  Bones mismatched = chain();
+  mismatched.tails.conservativeResize(1, 3);
+  EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, mismatched, keep_input()), dcg::InputError);
+  Bones nan = chain();
+  nan.heads(1, 2) = std::nan("");
+  EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, nan, keep_input()), dcg::InputError);
+  for (auto change : std::vector<std::function<void(dcg::WeightsOptions&)>>{
+           [](dcg::WeightsOptions& o) { o.max_influences = 0; },
+           [](dcg::WeightsOptions& o) { o.heat = 0; },
+           [](dcg::WeightsOptions& o) { o.min_weight = 1; },
+           [](dcg::WeightsOptions& o) { o.tie_tolerance = -1; }}) {
+    dcg::WeightsOptions o = keep_input();
+    change(o);
+    EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, chain(), o), dcg::InputError);
+  }
+}
+
+TEST(WeightsErrors, ProgressCallbackCancelsAndSeesIncreasingFractions) {
+  const Mesh m = capsule(0.5, 2.0);
+  std::vector<double> seen;
+  dcg::compute_skin_weights(m.V, m.F, chain(), keep_input(),
+                            [&](const std::string&, double f) {
+                              seen.push_back(f);
+                              return true;
+                            });
+  ASSERT_GE(seen.size(), 3u);
+  for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]);
+  EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+  int calls = 0;
+  EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, chain(), keep_input(),
+                                         [&](const std::string& stage, double) {
+                                           return !(stage == "weights" && ++calls > 2);
+                                         }),
+               dcg::Cancelled);
+}
+
+// --- public meshes ------------------------------------------------------------------------------
+
+TEST(WeightsMeshes, HandIsWeightedEverywhere) {
+  const std::string path = std::string(DCG_SOURCE_DIR) + "/../shared/meshes/hand.obj";
+  const char* env = std::getenv("DCG_MESHES");
+  const std::string file = env ? std::string(env) + "/hand.obj" : path;
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "public meshes not found";
+  const Mesh m = dcg::read_mesh(file);
+  // Bones: the three principal axes' halves through the center, a crude armature.
+  const Eigen::RowVector3d lo = m.V.colwise().minCoeff(), hi = m.V.colwise().maxCoeff();
+  const Eigen::Vector3d c = (0.5 * (lo + hi)).transpose(), e = (0.25 * (hi - lo)).transpose();
+  const Bones bones = bones_from({{c, c + Eigen::Vector3d(e.x(), 0, 0)},
+                                  {c, c - Eigen::Vector3d(e.x(), 0, 0)},
+                                  {c, c + Eigen::Vector3d(0, e.y(), 0)},
+                                  {c, c - Eigen::Vector3d(0, e.y(), 0)},
+                                  {c, c + Eigen::Vector3d(0, 0, e.z())}});
+  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, bones);
+  expect_valid(w, static_cast<int>(m.V.rows()), 5);
+}
+
+}  // namespace
