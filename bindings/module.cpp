@@ -4,6 +4,10 @@
 
 #include "dcg/errors.h"
 
+namespace dcg_py {
+void bind_weights(py::module_& m);  // bind_weights.cpp
+}  // namespace dcg_py
+
 PYBIND11_MODULE(_core, m) {
   m.doc() = "DCG skeleton engine (C++). Use the dcg package, not this module directly.";
   namespace py = pybind11;
@@ -21,4 +25,5 @@ PYBIND11_MODULE(_core, m) {
   });
   dcg_py::bind_io(m);
   dcg_py::bind_pipeline(m);
+  dcg_py::bind_weights(m);
 }

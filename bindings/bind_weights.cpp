@@ -1,0 +1,148 @@
+// Stage 9 (dcg/weights.h) for Python: skin_weights from the input mesh, or from a stage-0 result
+// the caller already has. The Python layer (bindings/dcg/weights.py) validates the arrays and
+// turns bones given as a skeleton or a bone list into heads and tails.
+#include "common.h"
+
+#include "dcg/errors.h"
+#include "dcg/pipeline.h"
+#include "dcg/prepare.h"
+#include "dcg/weights.h"
+
+namespace dcg_py {
+namespace {
+
+// Weights options and the stage-0 options from one dict: max_influences, heat, min_weight,
+// tie_tolerance, repair, target_faces, seed (missing keys keep their defaults).
+dcg::WeightsOptions weights_options(const py::dict& values) {
+  dcg::WeightsOptions o;
+  for (const auto& item : values) {
+    const std::string name = py::str(item.first);
+    if (name == "repair") {
+      o.prepare.repair = dcg::parse_repair(py::str(item.second));
+      continue;
+    }
+    double value = 0;
+    try {
+      value = item.second.cast<double>();
+    } catch (const py::cast_error&) {
+      throw dcg::InputError("option " + name + " must be a number, got " +
+                            std::string(py::str(py::repr(item.second))));
+    }
+    if (name == "max_influences") {
+      if (value != std::floor(value) || std::abs(value) > 1e9) {
+        throw dcg::InputError("max_influences must be a whole number");
+      }
+      o.max_influences = static_cast<int>(value);
+    } else if (name == "heat") {
+      o.heat = value;
+    } else if (name == "min_weight") {
+      o.min_weight = value;
+    } else if (name == "tie_tolerance") {
+      o.tie_tolerance = value;
+    } else if (name == "target_faces" || name == "seed") {
+      dcg::Options pipeline;  // the pipeline's table checks the range
+      dcg::set_numeric_option(pipeline, name, value);
+      if (name == "seed") {
+        o.prepare.seed = pipeline.seed;
+      } else {
+        o.prepare.target_faces = pipeline.target_faces;
+      }
+    } else {
+      throw dcg::InputError("unknown weights option " + name);
+    }
+  }
+  o.validate();
+  return o;
+}
+
+dcg::Bones make_bones(const dcg::Points& heads, const dcg::Points& tails) {
+  dcg::Bones bones;
+  bones.heads = heads;
+  bones.tails = tails;
+  return bones;
+}
+
+py::dict weights_dict(const dcg::SkinWeights& w) {
+  py::dict d;
+  d["rows"] = Eigen::VectorXi(w.rows).cast<std::int64_t>().eval();
+  d["cols"] = Eigen::VectorXi(w.cols).cast<std::int64_t>().eval();
+  d["values"] = w.values;
+  d["vertex_count"] = w.vertex_count;
+  d["bone_count"] = w.bone_count;
+  d["working_vertices"] = w.working_vertices;
+  d["unseen_vertices"] = w.unseen_vertices;
+  d["blind_components"] = w.blind_components;
+  d["fallback_vertices"] = w.fallback_vertices;
+  py::list timings;
+  for (const auto& t : w.timings) timings.append(py::make_tuple(t.first, t.second));
+  d["timings"] = timings;
+  return d;
+}
+
+// Runs `compute` with the GIL released; a Python exception raised by the progress callable is
+// re-raised as itself.
+template <typename Compute>
+dcg::SkinWeights run(ProgressBridge& bridge, Compute compute) {
+  try {
+    py::gil_scoped_release release;
+    return compute(bridge.callback());
+  } catch (const dcg::Cancelled&) {
+    bridge.rethrow_if_failed();
+    throw;
+  }
+}
+
+}  // namespace
+
+void bind_weights(py::module_& m) {
+  m.def(
+      "skin_weights",
+      [](const dcg::Vertices& V, const Faces64& F, const dcg::Points& heads,
+         const dcg::Points& tails, const py::dict& options, py::object progress) {
+        const dcg::Faces faces = to_faces(F, V.rows());
+        const dcg::WeightsOptions o = weights_options(options);
+        const dcg::Bones bones = make_bones(heads, tails);
+        ProgressBridge bridge(std::move(progress));
+        return weights_dict(run(bridge, [&](dcg::ProgressCallback cb) {
+          return dcg::compute_skin_weights(V, faces, bones, o, std::move(cb));
+        }));
+      },
+      py::arg("V"), py::arg("F"), py::arg("heads"), py::arg("tails"), py::arg("options"),
+      py::arg("progress") = py::none(),
+      "Bone heat weights of V's vertices (stage 0 runs first); a dict of triplets and counts.");
+  m.def(
+      "skin_weights_prepared",
+      [](const dcg::Vertices& working_V, const Faces64& working_F, double scale,
+         const Eigen::Vector3d& offset, const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& map_face,
+         const dcg::Vertices& map_barycentric, const dcg::Points& heads, const dcg::Points& tails,
+         const py::dict& options, py::object progress) {
+        dcg::PreparedMesh prepared;
+        prepared.working.V = working_V;
+        prepared.working.F = to_faces(working_F, working_V.rows());
+        prepared.scale = scale;
+        prepared.offset = offset.transpose();
+        if (map_barycentric.rows() != map_face.size()) {
+          throw dcg::InputError("map_face and map_barycentric have different lengths");
+        }
+        prepared.map_face.resize(map_face.size());
+        for (Eigen::Index i = 0; i < map_face.size(); ++i) {
+          if (map_face[i] < 0 || map_face[i] >= prepared.working.F.rows()) {
+            throw dcg::InputError("map_face[" + std::to_string(i) + "] is outside the working mesh");
+          }
+          prepared.map_face[i] = static_cast<int>(map_face[i]);
+        }
+        prepared.map_barycentric = map_barycentric;
+        const dcg::WeightsOptions o = weights_options(options);
+        const dcg::Bones bones = make_bones(heads, tails);
+        ProgressBridge bridge(std::move(progress));
+        return weights_dict(run(bridge, [&](dcg::ProgressCallback cb) {
+          return dcg::compute_skin_weights(prepared, bones, o, std::move(cb));
+        }));
+      },
+      py::arg("working_V"), py::arg("working_F"), py::arg("scale"), py::arg("offset"),
+      py::arg("map_face"), py::arg("map_barycentric"), py::arg("heads"), py::arg("tails"),
+      py::arg("options"), py::arg("progress") = py::none(),
+      "Bone heat weights from a stage-0 result (dcg.PreparedMesh's arrays).");
+}
+
+}  // namespace dcg_py

@@ -1,0 +1,208 @@
+"""Skinning weights (stage 9): bone heat on the closed working mesh, for the input's vertices.
+
+    import dcg
+    V, F = dcg.load_mesh("hand.obj")
+    skeleton = dcg.extract_skeleton(V, F)
+    weights = dcg.skin_weights(V, F, skeleton)            # one bone per polyline segment
+    rows, cols, values = weights                           # sparse triplets (numpy)
+    W = weights.dense()                                    # #V x #B, rows sum to 1
+
+    # the add-on's bones (any objects with .head and .tail), or explicit heads and tails:
+    weights = dcg.skin_weights(V, F, plan)                 # plan = bones.plan_bones(skeleton)
+    weights = dcg.skin_weights(V, F, heads, tails, max_influences=4)
+
+    # reuse stage 0 of an Extractor on the same mesh (no second remeshing):
+    ex = dcg.Extractor(V, F)
+    weights = dcg.skin_weights(V, F, heads, tails, prepared=ex.prepare())
+
+Bones are segments in the mesh's own coordinates (Blender: world space when V is). Every vertex
+gets between 1 and max_influences weights, positive and summing to 1, whatever the mesh: open,
+several parts, non-manifold, at any scale (the work is done on the closed working mesh of stage
+0, in normalized units, and carried back through its map). See cpp/include/dcg/weights.h.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Dict, Iterator, Optional, Tuple
+
+import numpy as np
+
+from . import _core
+
+#: The weights' own options, with their defaults (see cpp/include/dcg/weights.h).
+WEIGHT_OPTIONS: Dict[str, object] = {
+    "max_influences": 4,   # most bones per vertex (the strongest kept, then renormalized)
+    "heat": 1.0,           # c of H = c / d^2: larger binds more rigidly to the nearest bone
+    "min_weight": 0.05,    # weights below fade to 0 at half of it (as Blender's bone heat)
+    "tie_tolerance": 1e-4,  # bones this (relatively) close to the nearest one share its heat
+}
+#: Stage-0 options the weights use when they run stage 0 themselves; other pipeline options
+#: (the skeleton's) are accepted and ignored, so the same **options work for both calls.
+PREPARE_OPTIONS = ("repair", "target_faces", "seed")
+
+
+@dataclass
+class SkinWeights:
+    """Per-vertex bone weights as sparse triplets, sorted by vertex then decreasing weight.
+
+    rows    #E int64 vertex index of each entry
+    cols    #E int64 bone index of each entry (the order of the bones given)
+    values  #E float64 weights in (0, 1]; each vertex's sum to 1
+    vertex_count, bone_count   the shape of the dense matrix
+    working_vertices  vertices of the working mesh the heat was solved on
+    unseen_vertices   working vertices that saw no bone (weighted by diffusion)
+    blind_components  working-mesh parts that saw no bone (their nearest bone used)
+    fallback_vertices input vertices left with nothing by the heat (given their nearest bone)
+    timings           step -> seconds, then "total"
+
+    Unpacks as (rows, cols, values).
+    """
+
+    rows: np.ndarray
+    cols: np.ndarray
+    values: np.ndarray
+    vertex_count: int
+    bone_count: int
+    working_vertices: int = 0
+    unseen_vertices: int = 0
+    blind_components: int = 0
+    fallback_vertices: int = 0
+    timings: Dict[str, float] = field(default_factory=dict)
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        return iter((self.rows, self.cols, self.values))
+
+    def dense(self) -> np.ndarray:
+        """The #V x #B weight matrix."""
+        W = np.zeros((self.vertex_count, self.bone_count))
+        np.add.at(W, (self.rows, self.cols), self.values)
+        return W
+
+    @classmethod
+    def _from_core(cls, d) -> "SkinWeights":
+        return cls(
+            rows=np.asarray(d["rows"], dtype=np.int64),
+            cols=np.asarray(d["cols"], dtype=np.int64),
+            values=np.asarray(d["values"], dtype=np.float64),
+            vertex_count=int(d["vertex_count"]), bone_count=int(d["bone_count"]),
+            working_vertices=int(d["working_vertices"]),
+            unseen_vertices=int(d["unseen_vertices"]),
+            blind_components=int(d["blind_components"]),
+            fallback_vertices=int(d["fallback_vertices"]),
+            timings={name: float(s) for name, s in d["timings"]})
+
+
+def skeleton_bones(skeleton) -> Tuple[np.ndarray, np.ndarray]:
+    """(heads, tails) #B x 3: one bone per segment of every link polyline, link by link, each
+    polyline from links[l, 0] to links[l, 1]."""
+    heads, tails = [], []
+    for polyline in skeleton.polylines:
+        p = np.asarray(polyline, dtype=np.float64).reshape(-1, 3)
+        heads.append(p[:-1])
+        tails.append(p[1:])
+    if not heads:
+        return np.zeros((0, 3)), np.zeros((0, 3))
+    return np.concatenate(heads), np.concatenate(tails)
+
+
+def _points(name, array) -> np.ndarray:
+    try:
+        array = np.ascontiguousarray(array, dtype=np.float64)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"{name} must be a #B x 3 array of numbers: {error}") from None
+    if array.ndim == 1 and array.size == 3:
+        array = array.reshape(1, 3)
+    if array.ndim != 2 or array.shape[1] != 3:
+        raise ValueError(f"{name} must be a #B x 3 array of points, got shape {array.shape}")
+    return array
+
+
+def _bones(bones, tails) -> Tuple[np.ndarray, np.ndarray]:
+    """Heads and tails from (heads, tails) arrays, a Skeleton or a list of bone objects."""
+    if tails is not None:
+        heads, tails = _points("heads", bones), _points("tails", tails)
+    elif hasattr(bones, "polylines") and hasattr(bones, "links"):
+        heads, tails = skeleton_bones(bones)
+    else:
+        try:
+            items = list(bones)
+        except TypeError:
+            raise ValueError("bones must be a Skeleton, a list of bones with .head and .tail, "
+                             "or heads with tails") from None
+        if items and all(hasattr(b, "head") and hasattr(b, "tail") for b in items):
+            heads = _points("heads", [np.asarray(b.head, dtype=float) for b in items])
+            tails = _points("tails", [np.asarray(b.tail, dtype=float) for b in items])
+        else:
+            raise ValueError("bones must be a Skeleton, a non-empty list of bones with .head "
+                             "and .tail, or heads with tails")
+    if len(heads) != len(tails):
+        raise ValueError(f"got {len(heads)} heads and {len(tails)} tails")
+    if len(heads) == 0:
+        raise ValueError("weights need at least one bone")
+    return heads, tails
+
+
+def _options(options) -> Dict[str, object]:
+    from .options import OPTIONS  # the pipeline's table: stage-0 option ranges
+
+    unknown = sorted(set(options) - set(WEIGHT_OPTIONS) - set(OPTIONS))
+    if unknown:
+        raise ValueError(f"unknown option(s) {', '.join(unknown)}; weights options: "
+                         f"{', '.join(WEIGHT_OPTIONS)}, stage 0: {', '.join(PREPARE_OPTIONS)}")
+    clean = {}
+    for name, value in options.items():
+        if name not in WEIGHT_OPTIONS and name not in PREPARE_OPTIONS:
+            continue
+        if name == "repair":
+            clean[name] = str(value).lower()
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise ValueError(f"option {name} must be a number, got {value!r}") from None
+        clean[name] = float(value)
+    return clean
+
+
+def skin_weights(V, F, bones, tails=None, *, prepared=None,
+                 progress: Optional[Callable[[str, float], Optional[bool]]] = None,
+                 **options) -> SkinWeights:
+    """Bone heat skinning weights of the vertices of (V #V x 3, F #F x 3).
+
+    bones: a #B x 3 array of heads with `tails` (#B x 3), or a dcg.Skeleton (one bone per
+    polyline segment, see skeleton_bones), or a list of objects with .head and .tail (the
+    add-on's bone plan). Bones are in V's coordinates. Column b of the result is bone b.
+
+    prepared: a dcg.PreparedMesh of this same (V, F) (Extractor.prepare()) to reuse instead of
+    running stage 0 again. options: max_influences (4), heat (1.0), min_weight (0.05),
+    tie_tolerance (1e-4), and the stage-0 options repair, target_faces, seed when `prepared` is
+    not given (other pipeline options are accepted and ignored). progress(stage, fraction) is
+    called from the calling thread; return False to cancel (raises dcg.Cancelled). The GIL is
+    released while the engine works.
+
+    Returns SkinWeights (unpacks as rows, cols, values): every vertex has 1..max_influences
+    positive weights summing to 1. ValueError for bad arrays, bones or options.
+    """
+    from . import as_mesh
+
+    V, F = as_mesh(V, F)
+    heads, tails = _bones(bones, tails)
+    clean = _options(options)
+    if prepared is None:
+        d = _core.skin_weights(V, F, heads, tails, clean, progress)
+    else:
+        map_face = np.ascontiguousarray(prepared.map_face, dtype=np.int64).reshape(-1)
+        if len(map_face) != len(V):
+            raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
+                             "pass the PreparedMesh of this mesh")
+        for name in PREPARE_OPTIONS:
+            clean.pop(name, None)
+        d = _core.skin_weights_prepared(
+            np.ascontiguousarray(prepared.vertices, dtype=np.float64),
+            np.ascontiguousarray(prepared.faces, dtype=np.int64), float(prepared.scale),
+            np.asarray(prepared.offset, dtype=np.float64).reshape(3), map_face,
+            np.ascontiguousarray(prepared.map_barycentric, dtype=np.float64).reshape(-1, 3),
+            heads, tails, clean, progress)
+    return SkinWeights._from_core(d)

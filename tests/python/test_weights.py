@@ -1,0 +1,290 @@
+"""dcg.skin_weights (stage 9): every vertex weighted (rows sum to 1, at most 4 influences) on
+the public meshes, open ones and scaled ones included; monotonic across a joint; the ways to
+give bones; reuse of stage 0; errors, progress and cancellation.
+
+The default run takes a subset of the public meshes (a few seconds); DCG_ALL_MESHES=1 weights
+every one of them.
+"""
+
+import os
+import threading
+import time
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import dcg
+from dcg.weights import SkinWeights, skeleton_bones, skin_weights
+
+from conftest import cube
+
+
+def capsule(radius=0.5, length=2.0, rings=10, segments=24, sections=24):
+    """Closed capsule along z: cylinder from -length/2 to length/2 plus two hemispheres."""
+    rows = [(0.5 * length + radius * np.cos(t), radius * np.sin(t))
+            for t in 0.5 * np.pi * np.arange(1, rings + 1) / rings]
+    rows += [(0.5 * length - length * i / sections, radius) for i in range(1, sections)]
+    rows += [(-0.5 * length + radius * np.cos(t), radius * np.sin(t))
+             for t in 0.5 * np.pi + 0.5 * np.pi * np.arange(rings) / rings]
+    phi = 2 * np.pi * np.arange(segments) / segments
+    V = [[0, 0, 0.5 * length + radius]]
+    for z, r in rows:
+        V += [[r * np.cos(p), r * np.sin(p), z] for p in phi]
+    V.append([0, 0, -0.5 * length - radius])
+    bottom = len(V) - 1
+
+    def at(i, j):
+        return 1 + i * segments + j % segments
+
+    F = []
+    for j in range(segments):
+        F += [[0, at(0, j), at(0, j + 1)], [bottom, at(len(rows) - 1, j + 1),
+                                            at(len(rows) - 1, j)]]
+    for i in range(len(rows) - 1):
+        for j in range(segments):
+            F += [[at(i, j), at(i + 1, j), at(i + 1, j + 1)],
+                  [at(i, j), at(i + 1, j + 1), at(i, j + 1)]]
+    return np.array(V, dtype=float), np.array(F, dtype=np.int64)
+
+
+CHAIN_HEADS = np.array([[0, 0, -1.2], [0, 0, 0]], dtype=float)
+CHAIN_TAILS = np.array([[0, 0, 0], [0, 0, 1.2]], dtype=float)
+
+
+def check_weights(w, vertex_count, bone_count, max_influences=4):
+    """Every vertex has 1..max_influences positive weights summing to 1."""
+    assert isinstance(w, SkinWeights)
+    assert (w.vertex_count, w.bone_count) == (vertex_count, bone_count)
+    assert w.rows.dtype == np.int64 and w.cols.dtype == np.int64
+    assert w.values.dtype == np.float64
+    assert len(w.rows) == len(w.cols) == len(w.values)
+    assert np.all(np.diff(w.rows) >= 0)
+    assert np.all((w.cols >= 0) & (w.cols < bone_count))
+    assert np.all(w.values > 0)
+    counts = np.bincount(w.rows, minlength=vertex_count)
+    assert counts.min() >= 1, f"{np.sum(counts == 0)} vertices have no weight"
+    assert counts.max() <= max_influences
+    sums = np.bincount(w.rows, weights=w.values, minlength=vertex_count)
+    assert np.abs(sums - 1).max() < 1e-9
+    assert w.fallback_vertices == 0
+
+
+def read_tgf(path):
+    """Bones (heads, tails) of a TGF rig: joints, '#', then 1-based joint pairs."""
+    joints, edges, in_edges = [], [], False
+    for line in open(path):
+        parts = line.split()
+        if not parts:
+            continue
+        if parts[0] == "#":
+            in_edges = True
+        elif in_edges:
+            edges.append((int(parts[0]) - 1, int(parts[1]) - 1))
+        else:
+            joints.append([float(x) for x in parts[1:4]])
+    joints = np.array(joints)
+    edges = np.array(edges)
+    return joints[edges[:, 0]], joints[edges[:, 1]]
+
+
+# --- behaviour on small shapes -------------------------------------------------------------------
+
+def test_capsule_chain_is_monotonic_across_the_joint():
+    V, F = capsule()
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=0)
+    check_weights(w, len(V), 2)
+    W = w.dense()
+    z = np.round(V[:, 2], 9)
+    levels = np.unique(z)
+    upper = np.array([W[z == level, 1].mean() for level in levels])
+    assert np.all(np.diff(upper) >= -1e-9), "the upper bone's weight must grow along the axis"
+    assert upper[0] < 0.01 and upper[-1] > 0.99
+    assert np.all(upper[levels < -0.05] < 0.5) and np.all(upper[levels > 0.05] > 0.5)
+    assert abs(upper[levels == 0][0] - 0.5) < 0.05
+    # remeshed (the default working mesh): the same picture at the input vertices
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=8000)
+    check_weights(w, len(V), 2)
+    assert w.working_vertices > len(V)
+    W = w.dense()
+    assert np.all(W[V[:, 2] > 1.0, 1] > 0.9) and np.all(W[V[:, 2] < -1.0, 0] > 0.9)
+
+
+def test_open_cube_with_one_bone_gets_weight_one_everywhere():
+    V, F = cube(open_faces=2)
+    w = skin_weights(V, F, [[0.5, 0.5, 0.3]], [[0.5, 0.5, 0.7]])
+    check_weights(w, len(V), 1, 1)
+    assert np.allclose(w.values, 1)
+
+
+def test_max_influences_and_unpacking():
+    V, F = capsule()
+    heads = np.array([[0, 0, z] for z in (-1.2, -0.6, 0, 0.6)], dtype=float)
+    tails = heads + [0, 0, 0.6]
+    for max_influences in (1, 2, 3):
+        w = skin_weights(V, F, heads, tails, target_faces=0, max_influences=max_influences,
+                         min_weight=0)
+        check_weights(w, len(V), 4, max_influences)
+    rows, cols, values = w
+    assert rows is w.rows and cols is w.cols and values is w.values
+
+
+# --- the ways to give bones ----------------------------------------------------------------------
+
+def test_bones_as_objects_skeleton_or_arrays_agree():
+    V, F = capsule()
+    by_arrays = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=0)
+    plan = [SimpleNamespace(name=f"b{i}", head=h, tail=t)
+            for i, (h, t) in enumerate(zip(CHAIN_HEADS, CHAIN_TAILS))]
+    by_objects = skin_weights(V, F, plan, target_faces=0)
+    skeleton = SimpleNamespace(links=np.array([[0, 1]]),
+                               polylines=[np.array([[0, 0, -1.2], [0, 0, 0], [0, 0, 1.2]])])
+    assert np.allclose(np.concatenate(skeleton_bones(skeleton), axis=1),
+                       np.concatenate([CHAIN_HEADS, CHAIN_TAILS], axis=1))
+    by_skeleton = skin_weights(V, F, skeleton, target_faces=0)
+    for other in (by_objects, by_skeleton):
+        assert np.allclose(other.dense(), by_arrays.dense())
+
+
+def test_prepared_mesh_is_reused():
+    V, F = capsule(sections=8, segments=12, rings=5)
+    ex = dcg.Extractor(V, F, target_faces=3000)
+    prepared = ex.prepare()
+    reused = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, prepared=prepared)
+    fresh = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=3000)
+    check_weights(reused, len(V), 2)
+    assert "prepare" not in reused.timings and "prepare" in fresh.timings
+    assert np.allclose(reused.dense(), fresh.dense(), atol=1e-9)
+    with pytest.raises(ValueError, match="prepared maps"):
+        skin_weights(V[:-1], F[F.max(axis=1) < len(V) - 1], CHAIN_HEADS, CHAIN_TAILS,
+                     prepared=prepared)
+
+
+def test_skeleton_options_are_accepted_and_ignored():
+    V, F = capsule()
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=0, tau=0.7, samples=100)
+    check_weights(w, len(V), 2)
+
+
+# --- errors, progress, cancellation, GIL ---------------------------------------------------------
+
+@pytest.mark.parametrize("call, message", [
+    (lambda V, F: skin_weights(V, F, np.zeros((0, 3)), np.zeros((0, 3))), "at least one bone"),
+    (lambda V, F: skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS[:1]), "2 heads and 1 tails"),
+    (lambda V, F: skin_weights(V, F, np.zeros((2, 2)), CHAIN_TAILS), "heads must be"),
+    (lambda V, F: skin_weights(V, F, [[np.nan, 0, 0]], [[0, 0, 1]]), "non-finite"),
+    (lambda V, F: skin_weights(V, F, "bones"), "bones must be"),
+    (lambda V, F: skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, max_influences=0),
+     "max_influences"),
+    (lambda V, F: skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, max_influences=2.5),
+     "max_influences"),
+    (lambda V, F: skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, heat=-1), "heat"),
+    (lambda V, F: skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, min_weight="x"), "min_weight"),
+    (lambda V, F: skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, colour=3), "unknown option"),
+    (lambda V, F: skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, repair="never"), "repair"),
+    (lambda V, F: skin_weights(V, F[:, :2], CHAIN_HEADS, CHAIN_TAILS), "F must be"),
+])
+def test_bad_input_raises_value_error(call, message):
+    V, F = capsule(sections=4, segments=8, rings=3)
+    with pytest.raises(ValueError, match=message):
+        call(V, F)
+
+
+def test_progress_is_reported_and_cancels():
+    V, F = capsule()
+    seen = []
+    skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=0,
+                 progress=lambda stage, fraction: seen.append((stage, fraction)))
+    fractions = [f for _, f in seen]
+    assert len(seen) >= 3 and fractions == sorted(fractions) and fractions[-1] == 1.0
+    assert {stage for stage, _ in seen} <= {"prepare", "weights"}
+    with pytest.raises(dcg.Cancelled):
+        skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=0,
+                     progress=lambda stage, fraction: fraction < 0.3)
+
+    class Boom(Exception):
+        pass
+
+    def explode(stage, fraction):
+        if fraction > 0.3:
+            raise Boom("from the callback")
+
+    with pytest.raises(Boom):
+        skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=0, progress=explode)
+
+
+def test_gil_is_released_while_weighting(meshes_dir):
+    V, F = dcg.load_mesh(meshes_dir / "bunny-scan-open.obj")
+    heads = np.array([[-0.05, 0.1, 0.0], [0.0, 0.1, 0.0]])
+    ticks = []
+    done = threading.Event()
+
+    def tick():
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.005)
+
+    thread = threading.Thread(target=tick)
+    start = time.perf_counter()
+    thread.start()
+    try:
+        skin_weights(V, F, heads, heads + [0.05, 0, 0])
+    finally:
+        done.set()
+        thread.join()
+    elapsed = time.perf_counter() - start
+    assert len(ticks) > 0.25 * elapsed / 0.005, "the other thread was starved of the GIL"
+
+
+# --- the public meshes ---------------------------------------------------------------------------
+
+def _bones_for(name, V, F, meshes_dir):
+    rig = meshes_dir / "rigs" / (name.rsplit(".", 1)[0] + ".tgf")
+    if rig.is_file():
+        return read_tgf(rig)
+    return skeleton_bones(dcg.extract_skeleton(V, F))
+
+
+DEFAULT_MESHES = ["hand.obj", "wolf-open.obj", "bunny-scan-open.obj", "octopus-low.obj"]
+
+
+def _all_meshes():
+    if os.environ.get("DCG_ALL_MESHES") != "1":
+        return DEFAULT_MESHES
+    from conftest import REPO
+    folder = os.environ.get("DCG_MESHES", str(REPO.parent / "shared" / "meshes"))
+    if not os.path.isdir(folder):
+        return DEFAULT_MESHES
+    return sorted(f for f in os.listdir(folder) if f.rsplit(".", 1)[-1] in ("obj", "off", "ply"))
+
+
+@pytest.mark.parametrize("name", _all_meshes())
+def test_every_vertex_of_a_public_mesh_is_weighted(meshes_dir, name):
+    V, F = dcg.load_mesh(meshes_dir / name)
+    heads, tails = _bones_for(name, V, F, meshes_dir)
+    w = skin_weights(V, F, heads, tails)
+    check_weights(w, len(V), len(heads))
+    assert w.blind_components == 0
+    if name in ("hand.obj", "wolf-open.obj"):
+        # An artist's rig: every bone is the strongest somewhere.
+        strongest = np.zeros(len(heads), dtype=bool)
+        first = np.r_[True, np.diff(w.rows) > 0]
+        strongest[w.cols[first]] = True
+        assert strongest.mean() > 0.9
+
+
+def test_spot_is_weighted_the_same_at_every_scale(meshes_dir):
+    V, F = dcg.load_mesh(meshes_dir / "spot.obj")
+    heads, tails = skeleton_bones(dcg.extract_skeleton(V, F))
+    weights = {}
+    for scale in (0.01, 1.0, 100.0):
+        w = skin_weights(V * scale, F, heads * scale, tails * scale)
+        check_weights(w, len(V), len(heads))
+        weights[scale] = w.dense()
+    # Stage 0's remeshing is not bit-exact across scales (rounding steers its edge splits and
+    # collapses), so the working meshes differ a little and so do some weights; on one working
+    # mesh the weights are the same at every scale (test_weights.cpp, SameWeightsAtEveryScale).
+    for scale in (0.01, 100.0):
+        difference = np.abs(weights[scale] - weights[1.0]).max(axis=1)
+        assert difference.mean() < 0.02, f"scale {scale}"
+        assert np.quantile(difference, 0.9) < 0.05, f"scale {scale}"
