@@ -13,10 +13,11 @@ KNOWN_CHOICES = {
 }
 
 # The add-on's own settings, shared by the panel, the operators and the CLI.
-ADDON_DEFAULTS = {"weights": "BLENDER", "bone_detail": 0.5}
+ADDON_DEFAULTS = {"weights": "DCG", "bone_detail": 0.5}
 
 WEIGHT_METHODS = (
-    ("DCG", "DCG", "The engine's own weights (falls back to Blender's until the engine has them)"),
+    ("DCG", "DCG", "The engine's own bone heat weights: every vertex weighted, open and "
+                   "multi-part meshes and any scale included"),
     ("BLENDER", "Automatic", "Blender's Automatic Weights (bone heat), checked and repaired"),
     ("ENVELOPE", "Envelope", "By distance to the bones, scaled by the skeleton radii "
                              "(never fails)"),

@@ -2,8 +2,11 @@
 
 Methods (the `weights` setting):
 
-- ``DCG``: the engine's own weights. The engine has none yet (no `dcg.skin_weights`), so
-  this falls back to ``BLENDER`` with a warning.
+- ``DCG`` (the default): the engine's own weights, `dcg.skin_weights`: bone heat on the
+  engine's closed working mesh, carried to every vertex of the mesh (open, several parts,
+  any scale). Computed on the mesh's own vertices and triangles in world space, with the
+  plan's bones in world space. Should the engine refuse the mesh (or be too old to have
+  weights), envelope weights take over, with a warning.
 - ``BLENDER``: Automatic Weights (bone heat). It fails silently (see ENVIRONMENT.md), so
   every vertex's weight sum is checked; on failure the mesh and armature data are scaled
   by 100 and bone heat runs again; vertices still unweighted get envelope weights, with a
@@ -18,7 +21,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from . import armature, mesh_io, skinning
+from . import _engine, armature, mesh_io, skinning
 
 RETRY_SCALE = 100.0
 
@@ -26,18 +29,58 @@ RETRY_SCALE = 100.0
 def apply_weights(context, mesh_obj, arm_obj, plan, method):
     """Bind `mesh_obj` to `arm_obj` with `method`; return a list of warnings for the user."""
     warnings = []
-    if method == "DCG":
-        warnings.append("the engine has no weights of its own yet: used Blender's "
-                        "Automatic Weights")
-        method = "BLENDER"
     names = [spec.name for spec in plan]
-    if method == "BLENDER":
+    if method == "DCG":
+        warnings += _dcg_weights(mesh_obj, plan)
+    elif method == "BLENDER":
         warnings += _bone_heat_checked(context, mesh_obj, arm_obj, plan)
     else:
         mesh_io.empty_groups(mesh_obj, names)
         if method == "ENVELOPE":
             mesh_io.write_groups(mesh_obj, names, *_envelope(mesh_obj, plan, None))
     armature.bind(mesh_obj, arm_obj)
+    return warnings
+
+
+def mesh_triangles(mesh):
+    """Return the #T by 3 int64 vertex indices of the triangles of a mesh datablock (its
+    polygons triangulated as Blender displays them)."""
+    mesh.calc_loop_triangles()
+    F = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("vertices", F)
+    return F.reshape(-1, 3).astype(np.int64)
+
+
+def _dcg_weights(mesh_obj, plan):
+    """The engine's bone heat weights written to the vertex groups; envelope weights (with a
+    warning) when the engine cannot weight this mesh. Return the warnings."""
+    names = [spec.name for spec in plan]
+    engine = _engine.require()
+    skin_weights = getattr(engine, "skin_weights", None)
+    V = mesh_io.world_vertices(mesh_obj)
+    F = mesh_triangles(mesh_obj.data)
+    warnings = []
+    weights = None
+    if skin_weights is None:
+        warnings.append("this build of the engine has no weights: used envelope weights")
+    else:
+        try:
+            weights = skin_weights(V, F, plan, max_influences=skinning.MAX_INFLUENCES)
+        except ValueError as error:
+            warnings.append(f"the engine could not weight {mesh_obj.name} ({error}): used "
+                            "envelope weights")
+    if weights is None:
+        rows, cols, values = _envelope(mesh_obj, plan, None)
+    else:
+        rows, cols, values = weights
+        missing = np.flatnonzero(skinning.weight_sums(rows, values, len(V)) <= 0)
+        if len(missing):  # not expected: the engine weights every vertex
+            warnings.append(f"the engine left {len(missing)} of {len(V)} vertices "
+                            "unweighted: gave them envelope weights")
+            extra = _envelope(mesh_obj, plan, missing)
+            rows, cols, values = (np.concatenate([a, b]) for a, b in
+                                  zip((rows, cols, values), extra))
+    mesh_io.write_groups(mesh_obj, names, rows, cols, values)
     return warnings
 
 

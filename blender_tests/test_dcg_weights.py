@@ -1,0 +1,63 @@
+"""The add-on's DCG weights (the default): every vertex weighted by the engine's bone heat, where
+Blender's Automatic Weights fails too (small scale, open meshes, parts that see no bone)."""
+
+import numpy as np
+import pytest
+
+import bpy
+from mathutils import Matrix
+from conftest import add_mesh, capsule
+
+
+def rig(**kwargs):
+    return bpy.ops.object.dcg_auto_rig(**kwargs)
+
+
+def check_weighted(obj, max_influences=4):
+    """Every vertex has 1..max_influences groups with weights summing to 1."""
+    counts = np.array([len(v.groups) for v in obj.data.vertices])
+    sums = np.array([sum(g.weight for g in v.groups) for v in obj.data.vertices])
+    assert counts.min() >= 1, f"{np.sum(counts == 0)} vertices have no group"
+    assert counts.max() <= max_influences
+    assert np.allclose(sums, 1.0, atol=1e-3), f"{np.sum(~np.isclose(sums, 1, atol=1e-3))} bad"
+
+
+def test_dcg_is_the_default_weights_method():
+    from dcg_rig import options
+
+    assert options.ADDON_DEFAULTS["weights"] == "DCG"
+
+
+@pytest.mark.parametrize("scale", [0.01, 1.0])
+def test_dcg_weights_every_vertex_of_spot(repo, scale):
+    bpy.ops.dcg.load_mesh(filepath=str(repo / "data" / "spot.obj"))
+    obj = bpy.context.active_object
+    # Scale the mesh data (Blender's bone heat fails on it at 0.01), and move the object.
+    obj.data.transform(Matrix.Scale(scale, 4))
+    obj.location = (3.0, -1.0, 0.5)
+    bpy.context.view_layer.update()
+    assert rig(weights="DCG") == {"FINISHED"}
+    check_weighted(obj)
+    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    names = {b.name for b in arm.data.bones}
+    assert {g.name for g in obj.vertex_groups} == names
+    # Every bone's group holds some vertex: each bone is the strongest somewhere, mostly.
+    used = set()
+    for vertex in obj.data.vertices:
+        if vertex.groups:
+            used.add(obj.vertex_groups[max(vertex.groups, key=lambda g: g.weight).group].name)
+    assert len(used) > 0.5 * len(names)
+
+
+def test_dcg_weights_an_open_multi_part_mesh():
+    # A capsule with its top cap removed, and a small closed box floating inside it.
+    V, F = capsule()
+    keep = V[F].mean(axis=1)[:, 2] < 1.1
+    box = np.array([[x, y, z] for x in (-0.1, 0.1) for y in (-0.1, 0.1) for z in (-0.1, 0.1)])
+    box_faces = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                          [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+    V2 = np.vstack([V, box])
+    F2 = np.vstack([F[keep], box_faces + len(V)])
+    obj = add_mesh("open", V2, F2, location=(1.0, 2.0, 0.0), scale=0.5)
+    assert rig(weights="DCG") == {"FINISHED"}
+    check_weighted(obj)
