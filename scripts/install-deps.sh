@@ -9,7 +9,7 @@ PACKAGES=(
   libcgal-dev libembree-dev libeigen3-dev libtbb-dev libgmp-dev libmpfr-dev libboost-dev
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest
   libgtest-dev libbenchmark-dev
-  blender python3-matplotlib
+  blender python3-matplotlib python3-distributed
 )
 
 missing=()

@@ -1,4 +1,5 @@
-"""Command line: `/usr/bin/python3 -m dcg skeleton IN -o OUT.json [--tau 0.85 ...]`."""
+"""Command line: `/usr/bin/python3 -m dcg skeleton IN -o OUT.json [--tau 0.85 ...]`,
+`/usr/bin/python3 -m dcg batch IN_DIR OUT_DIR [--scheduler tcp://HOST:8786] ...` (dcg.batch)."""
 
 from __future__ import annotations
 
@@ -36,7 +37,49 @@ def build_parser() -> argparse.ArgumentParser:
     sk.add_argument("--indent", type=int, default=None, help="pretty-print the JSON")
     sk.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     _add_option_flags(sk)
+    batch = commands.add_parser(
+        "batch", help="rig every mesh under a folder, on this machine or a Dask cluster",
+        description="Writes OUT_DIR/<relative path>.json (skeleton), .weights.npz and with "
+        "--glb .glb for every OBJ/OFF/PLY/STL (with --glb also FBX/glTF) under IN_DIR, and "
+        "OUT_DIR/index.jsonl (one record per model). Finished models are skipped. Exit status "
+        "0 when every model of the run succeeded, 1 when some failed, 2 when it cannot run.")
+    batch.add_argument("input", help="folder of meshes (searched recursively)")
+    batch.add_argument("output", help="output folder")
+    batch.add_argument("--scheduler", help="address of a running Dask scheduler "
+                       "(tcp://HOST:8786); default: a local cluster")
+    batch.add_argument("--workers", type=int, help="local worker processes (default: one per "
+                       "core; ignored with --scheduler)")
+    batch.add_argument("--glb", action="store_true", help="also write a rigged .glb with the "
+                       "add-on's headless Blender CLI (and read FBX/glTF inputs)")
+    batch.add_argument("--force", action="store_true", help="redo finished models too")
+    batch.add_argument("--retry-failed", action="store_true",
+                       help="redo the models whose last run failed")
+    batch.add_argument("--timeout", type=float, help="seconds allowed per model")
+    batch.add_argument("--retries", type=int, default=2,
+                       help="times a task is retried when it raises (default 2)")
+    batch.add_argument("--blender", help="Blender executable (default $BLENDER or blender)")
+    batch.add_argument("--blender-cli", help="the add-on's cli.py (default $DCG_BLENDER_CLI, "
+                       "else found beside the dcg package)")
+    batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    _add_option_flags(batch)
     return parser
+
+
+def run_batch(args: argparse.Namespace) -> int:
+    from . import batch
+
+    options = {name: getattr(args, name) for name in OPTIONS if getattr(args, name) is not None}
+    try:
+        summary = batch.run(args.input, args.output, options=options, scheduler=args.scheduler,
+                            workers=args.workers, glb=args.glb, force=args.force,
+                            retry_failed=args.retry_failed, blender=args.blender,
+                            blender_cli=args.blender_cli, timeout=args.timeout,
+                            retries=args.retries, progress=None if args.quiet else sys.stderr)
+    except batch.BatchError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    print(f"dcg batch: {summary.text()}")
+    return 1 if summary.failed else 0
 
 
 def run_skeleton(args: argparse.Namespace) -> int:
@@ -62,6 +105,8 @@ def main(argv: Optional[List[str]] = None) -> int:
     try:
         if args.command == "skeleton":
             return run_skeleton(args)
+        if args.command == "batch":
+            return run_batch(args)
     except (OSError, ValueError) as error:
         print(f"error: {error}", file=sys.stderr)
         return 1

@@ -1,0 +1,283 @@
+"""`python -m dcg batch` (dcg.batch): a folder of meshes on a 2-worker Dask LocalCluster,
+results, index.jsonl, resuming, a worker killed mid-run, and the Blender (--glb) path."""
+
+import base64
+import io
+import json
+import os
+import shutil
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import dcg
+from conftest import cube, uv_sphere
+
+distributed = pytest.importorskip("distributed")
+from dcg import batch  # noqa: E402  (after the skip: it needs nothing from Dask to import)
+
+FAST = {"samples": 1000, "target_faces": 3000}
+FAST_FLAGS = ["--samples", "1000", "--target-faces", "3000"]
+
+
+def write_obj(path, V, F):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in V] + [f"f {a + 1} {b + 1} {c + 1}"
+                                                           for a, b, c in F]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def write_off(path, V, F):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lines = ["OFF", f"{len(V)} {len(F)} 0"] + [f"{x!r} {y!r} {z!r}" for x, y, z in V]
+    path.write_text("\n".join(lines + [f"3 {a} {b} {c}" for a, b, c in F]) + "\n")
+
+
+def write_stl(path, V, F):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    out = ["solid box"]
+    for face in F:
+        a, b, c = V[face]
+        n = np.cross(b - a, c - a)
+        n = n / np.linalg.norm(n)
+        out += [f"facet normal {n[0]} {n[1]} {n[2]}", "outer loop"]
+        out += [f"vertex {p[0]} {p[1]} {p[2]}" for p in (a, b, c)]
+        out += ["endloop", "endfacet"]
+    path.write_text("\n".join(out + ["endsolid box"]) + "\n")
+
+
+def make_library(root: Path, repo: Path, extra: int = 0) -> Path:
+    """6 good meshes (3 synthetic, 3 from data/), an open one, a corrupt one, and `extra`
+    more good synthetic ones."""
+    V, F = uv_sphere()
+    write_obj(root / "sphere.obj", V, F)
+    write_off(root / "shapes" / "capsule.off", V * [0.6, 0.6, 2.0], F)
+    V, F = cube()
+    write_stl(root / "shapes" / "long box.stl", V * [1.0, 1.0, 4.0], F)
+    (root / "repo").mkdir()
+    shutil.copy(repo / "data" / "spot.obj", root / "repo" / "spot.obj")
+    shutil.copy(repo / "data" / "meshes" / "torus.off", root / "repo" / "torus.off")
+    shutil.copy(repo / "data" / "meshes" / "eight.off", root / "repo" / "eight.off")
+    V, F = uv_sphere(rings=12, segments=16)
+    write_off(root / "open" / "cup.off", V, F[40:])  # the top cap removed: a hole
+    (root / "broken.obj").write_text("v 0 0 0\nv 1 nonsense\nf 1 2 9\n")
+    for i in range(extra):
+        V, F = uv_sphere(rings=10 + i, segments=14)
+        write_off(root / "extra" / f"blob{i}.off", V * [1.0, 1.5 + i, 1.0], F)
+    return root
+
+
+def run_cli(*args, timeout=240):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(Path(dcg.__file__).resolve().parents[1])
+    return subprocess.run(["/usr/bin/python3", "-m", "dcg", "batch", *map(str, args)],
+                          env=env, capture_output=True, text=True, timeout=timeout)
+
+
+def read_lines(path: Path):
+    return [json.loads(line) for line in path.read_text().splitlines()]
+
+
+def test_batch_rigs_a_folder_records_the_failure_and_resumes(repo, tmp_path):
+    library = make_library(tmp_path / "in", repo)
+    out = tmp_path / "out"
+    first = run_cli(library, out, "--workers", "2", *FAST_FLAGS)
+    assert first.returncode == 1, first.stdout + first.stderr  # 1: a model failed
+    assert "7 ok, 1 failed" in first.stdout and "models/min" in first.stdout
+    assert "[8/8]" in first.stderr and "models/min" in first.stderr  # the progress lines
+
+    records = read_lines(out / "index.jsonl")
+    assert sorted(r["path"] for r in records) == sorted(batch.find_models(library))
+    assert len(records) == 8
+    by_path = {r["path"]: r for r in records}
+    failed = [r for r in records if r["status"] != "ok"]
+    assert [r["path"] for r in failed] == ["broken.obj"]
+    assert "broken.obj" in failed[0]["message"] and failed[0]["outputs"] == {}
+    assert not list(out.glob("broken.obj*"))
+    assert by_path["open/cup.off"]["status"] == "ok" and by_path["open/cup.off"]["repaired"]
+    assert by_path["repo/spot.obj"]["faces"] == 5856
+    for record in records:
+        assert record["seconds"] >= 0 and "worker" in record
+        if record["status"] != "ok":
+            continue
+        doc = json.loads((out / (record["path"] + ".json")).read_text())
+        assert doc["format"] == "dcg-skeleton/1" and doc["mesh"]["faces"] == record["faces"]
+        assert doc["options"]["samples"] == 1000
+        with np.load(out / (record["path"] + ".weights.npz")) as npz:
+            assert int(npz["vertices"]) == record["vertices"]
+            assert str(npz["status"]) == record["weights"]
+            if record["weights"] == "ok":
+                W = npz["weights"]
+                assert W.shape == (record["vertices"], len(npz["bone_names"]))
+                assert np.allclose(W.sum(axis=1), 1.0, atol=1e-4)
+    assert not [p for p in out.rglob(".*")], "temporary files left behind"
+
+    stamps = {p: p.stat().st_mtime_ns for p in out.rglob("*") if p.is_file()}
+    second = run_cli(library, out, "--workers", "2", *FAST_FLAGS)
+    assert second.returncode == 0, second.stdout + second.stderr
+    assert "nothing to do" in second.stdout and "8 models" in second.stdout
+    assert {p: p.stat().st_mtime_ns for p in out.rglob("*") if p.is_file()} == stamps
+
+    # Changed input or options: only what changed runs again.
+    (library / "sphere.obj").write_text((library / "sphere.obj").read_text() + "# edited\n")
+    third = run_cli(library, out, "--workers", "1", *FAST_FLAGS)
+    assert "1 ok, 0 failed, 7 skipped" in third.stdout, third.stdout + third.stderr
+    assert len(read_lines(out / "index.jsonl")) == 8
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                       dashboard_address=None)
+    with distributed.Client(cluster) as c:
+        yield c
+    cluster.close()
+
+
+def test_a_worker_killed_mid_run_loses_nothing(repo, tmp_path, client):
+    library = make_library(tmp_path / "in", repo, extra=1)
+    (library / "broken.obj").unlink()
+    models = batch.find_models(library)
+    assert len(models) == 8
+    pids = client.run(os.getpid)
+    killed, seen, in_flight = [], [], {}
+
+    def kill_a_busy_worker(record):
+        seen.append(record["path"])
+        if killed:
+            return
+        busy = [(w, keys) for w, keys in client.processing().items() if keys and w in pids]
+        assert busy, "no worker busy after the first result: nothing to kill"
+        worker, keys = busy[0]
+        os.kill(pids[worker], signal.SIGKILL)
+        killed.append(pids[worker])
+        in_flight.update((key.split("-", 3)[3], worker) for key in keys)
+
+    out = tmp_path / "out"
+    summary = batch.run(library, out, options=FAST, client=client, progress=None,
+                        on_result=kill_a_busy_worker)
+    assert killed and len(seen) == 8
+    assert sorted(seen) == models, "every model's result written exactly once"
+    assert summary.ok == 8 and summary.failed == 0
+    records = read_lines(out / "index.jsonl")
+    assert sorted(r["path"] for r in records) == models
+    assert all(r["status"] == "ok" for r in records)
+    assert in_flight
+    for path, dead_worker in in_flight.items():  # what it held was rigged by another worker
+        assert next(r for r in records if r["path"] == path)["worker"] != dead_worker
+    for path in models:
+        assert (out / (path + ".json")).is_file() and (out / (path + ".weights.npz")).is_file()
+    assert not [p for p in out.rglob(".*")]
+    with pytest.raises(ProcessLookupError):
+        os.kill(killed[0], 0)
+
+
+def test_bones_chain_away_from_the_root(repo):
+    V, F = dcg.load_mesh(repo / "data" / "spot.obj")
+    skeleton = dcg.extract_skeleton(V, F, **FAST)
+    bones = batch.bones_of(skeleton)
+    count = len(bones["names"])
+    assert count >= len(skeleton.links) > 0 and len(set(bones["names"])) == count
+    assert set(bones["links"].tolist()) == set(range(len(skeleton.links)))
+    for b, parent in enumerate(bones["parents"]):
+        assert parent < b
+        if parent >= 0:
+            assert np.allclose(bones["heads"][b], bones["tails"][parent])
+    roots = bones["heads"][bones["parents"] < 0]
+    assert np.allclose(roots, skeleton.positions[skeleton.root])  # one connected tree
+
+
+def test_weights_npz_says_unavailable_instead_of_making_weights_up(repo, monkeypatch):
+    V, F = dcg.load_mesh(repo / "data" / "meshes" / "torus.off")
+    skeleton = dcg.extract_skeleton(V, F, **FAST)
+    monkeypatch.delattr(dcg, "skin_weights", raising=False)
+    data, status = batch.weights_npz(V, F, skeleton)
+    assert status.startswith("unavailable")
+    with np.load(io.BytesIO(data)) as npz:
+        assert "weights" not in npz and str(npz["status"]) == status
+        assert len(npz["bone_names"]) > 0
+
+
+def test_rig_model_reports_errors_and_timeouts_as_records(tmp_path, repo):
+    missing = batch.rig_model(batch.Job("gone.obj", str(tmp_path / "gone.obj"), FAST))
+    assert missing["record"]["status"] == "error" and missing["files"] == {}
+    assert "gone.obj" in missing["record"]["message"]
+    spot = str(repo / "data" / "spot.obj")
+    late = batch.rig_model(batch.Job("spot.obj", spot, FAST, timeout=1e-6))
+    assert late["record"]["status"] == "error" and "timed out" in late["record"]["message"]
+
+
+def test_find_models_skips_hidden_files_and_the_output_inside(tmp_path):
+    write_off(tmp_path / "a.off", *cube())
+    write_off(tmp_path / ".hidden.off", *cube())
+    write_off(tmp_path / "out" / "x.off", *cube())
+    (tmp_path / "notes.txt").write_text("no mesh")
+    (tmp_path / "scene.fbx").write_text("")
+    assert batch.find_models(tmp_path, exclude=tmp_path / "out") == ["a.off"]
+    assert batch.find_models(tmp_path, glb=True, exclude=tmp_path / "out") == ["a.off",
+                                                                               "scene.fbx"]
+
+
+def test_bad_arguments_exit_2_with_the_reason(tmp_path):
+    result = run_cli(tmp_path / "absent", tmp_path / "out")
+    assert result.returncode == 2 and "does not exist" in result.stderr
+    result = run_cli(tmp_path, tmp_path / "out", "--tau", "7")
+    assert result.returncode != 0 and "tau" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def write_gltf(path, V, F):
+    """A minimal glTF 2.0 file (one mesh, buffers embedded as base64)."""
+    positions = np.asarray(V, dtype=np.float32).tobytes()
+    indices = np.asarray(F, dtype=np.uint32).tobytes()
+    data = base64.b64encode(positions + indices).decode()
+    doc = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "name": "blob"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "buffers": [{"byteLength": len(positions) + len(indices),
+                     "uri": "data:application/octet-stream;base64," + data}],
+        "bufferViews": [{"buffer": 0, "byteLength": len(positions), "target": 34962},
+                        {"buffer": 0, "byteOffset": len(positions),
+                         "byteLength": len(indices), "target": 34963}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(V), "type": "VEC3",
+                       "min": np.min(V, axis=0).tolist(), "max": np.max(V, axis=0).tolist()},
+                      {"bufferView": 1, "componentType": 5125, "count": 3 * len(F),
+                       "type": "SCALAR"}],
+    }
+    path.write_text(json.dumps(doc))
+
+
+@pytest.mark.skipif(shutil.which("blender") is None, reason="Blender is not installed")
+def test_glb_rigs_in_blender_and_reads_gltf_input(repo, tmp_path, client):
+    library = tmp_path / "in"
+    library.mkdir()
+    shutil.copy(repo / "data" / "meshes" / "torus.off", library / "torus.off")
+    V, F = uv_sphere(rings=10, segments=12)
+    write_gltf(library / "blob.gltf", V * [1.0, 1.0, 2.0], F)
+    out = tmp_path / "out"
+    started = time.perf_counter()
+    summary = batch.run(library, out, options=FAST, glb=True, client=client, progress=None)
+    records = {r["path"]: r for r in read_lines(out / "index.jsonl")}
+    assert summary.ok == 2, records
+    for path in ("torus.off", "blob.gltf"):
+        glb = (out / (path + ".glb")).read_bytes()
+        assert glb[:4] == b"glTF" and records[path]["outputs"]["glb"] == path + ".glb"
+        assert json.loads((out / (path + ".json")).read_text())["nodes"]
+    assert records["blob.gltf"]["faces"] == len(F)
+    assert time.perf_counter() - started < 120
+
+
+def test_a_model_that_keeps_killing_its_worker_is_a_failure_record():
+    from distributed.scheduler import KilledWorker
+
+    job = batch.Job("bad.off", "/in/bad.off", {})
+    error = KilledWorker("dcg-rig-x-bad.off", None, 3)
+    record, files = batch._record_of(job, (KilledWorker, error, None))
+    assert record["status"] == "error" and "died" in record["message"] and files == {}
+    record, _ = batch._record_of(job, (MemoryError, MemoryError("too big"), None))
+    assert record["message"] == "MemoryError: too big"
