@@ -41,11 +41,13 @@ addon: build
 	@$(PYTHON) scripts/make_addon_zip.py $(BUILD)/blender_scripts/addons/dcg_rig $(OUT)/dcg_rig.zip
 
 # Timings of every stage on every mesh of MESHES (folders or files), with CGAL's mean curvature
-# flow skeleton as the baseline: out/bench/report.md (and results.jsonl). Not part of `make test`.
+# flow skeleton as the baseline: out/bench/report.md (and results.jsonl); then `dcg batch` models
+# per minute with 1 and 2 workers: out/bench/batch.md. Not part of `make test`.
 MESHES ?= ../shared/meshes
 bench: build
 	@cmake --build $(BUILD) --target dcg_bench -j$(JOBS)
 	$(PYTHON) scripts/bench.py --binary $(BUILD)/dcg_bench --out $(OUT)/bench/report.md $(MESHES)
+	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_batch.py --out $(OUT)/bench/batch.md $(MESHES)
 
 clean:
 	rm -rf $(BUILD) $(OUT)
