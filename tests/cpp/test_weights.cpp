@@ -287,6 +287,36 @@ TEST(WeightsHeat, CapsuleChainIsMonotonicAcrossTheJoint) {
   }
 }
 
+TEST(WeightsHeat, SolveMatchesADenseSolveOfTheHeatEquation) {
+  // (-L + M H) w_b = M H p_b assembled here from the Laplacian, the areas and the nearest
+  // visible bones, solved densely; 10 bones cover a full block of 8 and a partial one.
+  const Mesh m = capsule(0.5, 2.0, nullptr, 5, 12, 8);
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> list;
+  for (int b = 0; b < 10; ++b) {
+    const double z0 = -1.2 + 0.24 * b;
+    list.push_back({{0.1 * std::cos(b), 0.1 * std::sin(b), z0}, {0, 0, z0 + 0.24}});
+  }
+  const Bones bones = bones_from(list);
+  dcg::WeightsOptions o;
+  o.tie_tolerance = 0;
+  dcg::BoneHeat heat(m);
+  const Eigen::MatrixXd W = heat.solve(bones, o);
+  Eigen::VectorXi nearest;
+  Eigen::VectorXd distance;
+  heat.nearest_visible_bones(bones, nearest, distance);
+  const Eigen::Index n = m.V.rows();
+  Eigen::MatrixXd A = -heat.laplacian().toDense();
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n, 10);
+  for (Eigen::Index v = 0; v < n; ++v) {
+    ASSERT_GE(nearest[v], 0);
+    const double mh = heat.areas()[v] * o.heat / (distance[v] * distance[v]);
+    A(v, v) += mh;
+    B(v, nearest[v]) = mh;
+  }
+  const Eigen::MatrixXd reference = A.ldlt().solve(B).cwiseMax(0.0).cwiseMin(1.0);
+  EXPECT_LT((W - reference).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(WeightsHeat, MaxInfluencesPrunesAndRenormalizes) {
   const Mesh m = capsule(0.5, 2.0);
   Bones four = bones_from({{{0, 0, -1.2}, {0, 0, -0.6}},
