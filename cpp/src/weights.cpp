@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -207,11 +208,13 @@ struct BoneHeat::Impl {
               order[b] = {point_segment_distance(p, a, c, &t), b};
               closest[b] = a + t * (c - a);
             }
-            std::sort(order.begin(), order.end());
+            // Nearest first, popped from a min-heap: usually one or two bones are looked at.
+            std::make_heap(order.begin(), order.end(), std::greater<>());
             Source& s = out[v];
             s = Source();
-            for (int k = 0; k < nb; ++k) {
-              const auto [d, b] = order[k];
+            for (auto end = order.end(); end != order.begin(); --end) {
+              std::pop_heap(order.begin(), end, std::greater<>());
+              const auto [d, b] = *(end - 1);
               if (std::isfinite(s.distance) && d > s.distance * (1 + tie_tolerance) + 1e-15) break;
               if (blind || m.visible(v, closest[b], margin)) {
                 if (s.tied.empty()) s.distance = d;
