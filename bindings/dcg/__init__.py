@@ -31,10 +31,12 @@ import numpy as np
 from . import _core
 from .options import OPTIONS, OptionInfo, normalize_options
 from .skeleton import FORMAT, Skeleton
+from .weights import SkinWeights, skin_weights
 
 __all__ = [
     "Cancelled", "Extractor", "OPTIONS", "OptionInfo", "Skeleton", "FORMAT", "Balls",
     "PreparedMesh", "Prongs", "extract_skeleton", "load_mesh", "as_mesh",
+    "SkinWeights", "skin_weights",
 ]
 __version__ = "0.1.0"
 

@@ -288,3 +288,8 @@ def test_spot_is_weighted_the_same_at_every_scale(meshes_dir):
         difference = np.abs(weights[scale] - weights[1.0]).max(axis=1)
         assert difference.mean() < 0.02, f"scale {scale}"
         assert np.quantile(difference, 0.9) < 0.05, f"scale {scale}"
+
+
+def test_the_package_exports_skin_weights():
+    assert dcg.skin_weights is skin_weights and dcg.SkinWeights is SkinWeights
+    assert {"skin_weights", "SkinWeights"} <= set(dcg.__all__)
