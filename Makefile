@@ -42,12 +42,20 @@ addon: build
 
 # Timings of every stage on every mesh of MESHES (folders or files), with CGAL's mean curvature
 # flow skeleton as the baseline: out/bench/report.md (and results.jsonl); then `dcg batch` models
-# per minute with 1 and 2 workers: out/bench/batch.md. Not part of `make test`.
+# per minute with 1 and 2 workers: out/bench/batch.md; our skinning weights against Blender's bone
+# heat on the same armatures (out/bench/weights.md, and spot at scales 0.01 and 100 in
+# weights-scaled.md). Not part of `make test`.
 MESHES ?= ../shared/meshes
+# The mesh files of MESHES (folders expanded), for the scripts that take files.
+BENCH_FILES = $(sort $(foreach m,$(MESHES),$(if $(wildcard $(m)/.),$(wildcard $(addprefix $(m)/*.,obj off ply stl)),$(m))))
 bench: build
 	@cmake --build $(BUILD) --target dcg_bench -j$(JOBS)
 	$(PYTHON) scripts/bench.py --binary $(BUILD)/dcg_bench --out $(OUT)/bench/report.md $(MESHES)
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_batch.py --out $(OUT)/bench/batch.md $(MESHES)
+	$(BLENDER) -b --factory-startup --python scripts/bench_weights.py -- --pythonpath $(BUILD)/python \
+	  --out $(OUT)/bench/weights.md $(BENCH_FILES)
+	$(BLENDER) -b --factory-startup --python scripts/bench_weights.py -- --pythonpath $(BUILD)/python \
+	  --out $(OUT)/bench/weights-scaled.md --scale 0.01 --scale 100 data/spot.obj
 
 clean:
 	rm -rf $(BUILD) $(OUT)
