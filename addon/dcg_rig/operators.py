@@ -197,6 +197,17 @@ def _console_progress(context):
     return progress
 
 
+def _run_extractor(engine):
+    """Return an engine call that runs every stage in a `dcg.Extractor` and returns it, so
+    that the stages' results (stage 0 for the weights, balls and prongs for the preview)
+    stay available."""
+    def run(V, F, progress=None, **options):
+        extractor = engine.Extractor(V, F, progress, **options)
+        extractor.skeleton()
+        return extractor
+    return run
+
+
 class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
     """Rig the active mesh: DCG skeleton, armature with end, joint and connection bones,
     and weights"""
@@ -210,9 +221,13 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
     def check(self, mesh_obj):
         rigging.check_riggable(mesh_obj)
 
-    def finish(self, context, mesh_obj, skeleton, values):
+    def compute(self, engine):
+        return _run_extractor(engine)
+
+    def finish(self, context, mesh_obj, extractor, values):
+        skeleton = extractor.skeleton()
         result = rigging.apply_rig(context, mesh_obj, skeleton, values["weights"],
-                                   values["bone_detail"])
+                                   values["bone_detail"], extractor.prepare())
         arm_obj = result.armature
         arm_obj["dcg_timings"] = {k: float(v) for k, v in skeleton.timings.items()}
         arm_obj["dcg_method"] = skeleton.method
@@ -234,11 +249,7 @@ class OBJECT_OT_dcg_preview(_EngineOperator, bpy.types.Operator):
     __annotations__ = properties.engine_annotations({"SKIP_SAVE"})
 
     def compute(self, engine):
-        def run(V, F, progress=None, **options):
-            extractor = engine.Extractor(V, F, progress, **options)
-            extractor.skeleton()
-            return extractor
-        return run
+        return _run_extractor(engine)
 
     def finish(self, context, mesh_obj, extractor, values):
         skeleton = extractor.skeleton()

@@ -70,7 +70,21 @@ def extract(context, obj, options, progress=None):
     return engine.extract_skeleton(V, F, progress=progress, **options)
 
 
-def apply_rig(context, mesh_obj, skeleton, weight_method="BLENDER", bone_detail=0.5):
+def reusable_prepared(mesh_obj, prepared):
+    """Return `prepared` (the skeleton run's stage 0, computed from the evaluated mesh) when
+    the weights may reuse it: the evaluated mesh is the mesh's own vertices and triangles
+    (no enabled modifier, no shape key), so the stage-0 map fits them; else None."""
+    if prepared is None or mesh_obj.data.shape_keys is not None:
+        return None
+    if any(m.show_viewport for m in mesh_obj.modifiers):
+        return None
+    if len(getattr(prepared, "map_face", ())) != len(mesh_obj.data.vertices):
+        return None
+    return prepared
+
+
+def apply_rig(context, mesh_obj, skeleton, weight_method="DCG", bone_detail=0.5,
+              prepared=None):
     """Rig `mesh_obj` from `skeleton` (world coordinates); return a RigResult.
 
     Transactional: the mesh's earlier DCG rigs are detached (not deleted) while the new rig
@@ -89,7 +103,8 @@ def apply_rig(context, mesh_obj, skeleton, weight_method="BLENDER", bone_detail=
         for old in old_rigs:
             armature.detach(mesh_obj, old)
         arm_obj = armature.build_armature(context, mesh_obj, plan)
-        warnings = weights.apply_weights(context, mesh_obj, arm_obj, plan, weight_method)
+        warnings = weights.apply_weights(context, mesh_obj, arm_obj, plan, weight_method,
+                                         reusable_prepared(mesh_obj, prepared))
     except BaseException:
         if arm_obj is not None:
             armature.detach(mesh_obj, arm_obj)
