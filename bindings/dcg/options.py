@@ -63,7 +63,11 @@ def normalize_options(options: Dict[str, Any]) -> Dict[str, Any]:
     clean = {}
     for name, value in options.items():
         if OPTIONS[name].kind == "choice":
-            value = str(value).lower()
+            # Only strings: str(None) would silently read as the choice "none".
+            if not isinstance(value, str):
+                raise ValueError(f"option {name} must be one of {', '.join(REPAIR_CHOICES)}, "
+                                 f"got {value!r}")
+            value = value.lower()
         elif isinstance(value, bool) or not isinstance(value, (int, float)):
             try:
                 value = float(value)
