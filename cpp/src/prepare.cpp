@@ -549,6 +549,21 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     out.repaired = true;
     out.wrap_alpha = alpha;
   } else {
+    // A closed manifold whose faces fold flat onto each other (found by fuzzing: an octahedron
+    // with its centre on an edge) encloses no volume, and CGAL's isotropic remeshing crashes
+    // on it (SEGV in tangential_relaxation). Its vertices are not in one plane, so the flat
+    // check above lets it through; the enclosed volume (divergence theorem, normalized units,
+    // so a real shape has about 1e-3 or more) tells.
+    double volume = 0;
+    for (Eigen::Index f = 0; f < clean.F.rows(); ++f) {
+      const Eigen::Vector3d a = clean.V.row(clean.F(f, 0)), b = clean.V.row(clean.F(f, 1)),
+                            c = clean.V.row(clean.F(f, 2));
+      volume += a.dot(b.cross(c)) / 6.0;
+    }
+    if (!(std::abs(volume) > 1e-10)) {
+      throw InputError("the mesh encloses no volume: it is closed, but its faces lie flat on "
+                       "each other");
+    }
     out.working = std::move(clean);
   }
 

@@ -140,6 +140,17 @@ def test_flat_mesh_is_value_error(repair):
         dcg.extract_skeleton(V, F, repair=repair, **FAST)
 
 
+def test_closed_mesh_folded_flat_is_value_error():
+    # Found by fuzzing (tests/fuzz/corpus/prepare/crash-remesh-folded-octahedron): a closed
+    # manifold whose faces lie flat on each other in two planes crashed CGAL's remeshing.
+    V = np.array([[1.0, 0, 0], [-1, 0, 0], [0, -1.5, 1], [0, 0, -1], [0, 0, 0], [1, 0, 0]])
+    F = np.array([[5, 0, 2], [4, 2, 1], [4, 1, 3], [4, 3, 0], [4, 2, 0], [5, 1, 2], [5, 3, 1]])
+    for repair in ("auto", "none"):
+        for target_faces in (64, 20000):
+            with pytest.raises(ValueError, match="no volume"):
+                dcg.Extractor(V, F, repair=repair, target_faces=target_faces).prepare()
+
+
 def test_collinear_vertices_are_value_error():
     V = np.column_stack([np.linspace(0, 1, 8), np.zeros(8), np.zeros(8)])
     F = np.array([[0, 1, 2], [2, 3, 4], [4, 5, 6], [5, 6, 7]])
@@ -352,6 +363,12 @@ def test_polygon_faces_in_files_are_triangulated(tmp_path):
     ("bad.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n"),
     ("truncated.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"),
     ("binary.stl", "\x00" * 80 + "\xff\xff\xff\x7f"),
+    # Found by fuzzing: CGAL's PLY reader crashed on a property before any element.
+    ("property-first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\n"
+     "end_header\n0\n"),
+    # Found by fuzzing: CGAL reads OFF indices as doubles and casts them to size_t.
+    ("bigindex.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n4 0 1 2 3\n3 0 1 "
+     + "8" * 117 + "\n"),
 ])
 def test_malformed_files_are_clear_errors(tmp_path, name, text):
     path = tmp_path / name
