@@ -9,6 +9,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "dcg/errors.h"
@@ -23,6 +24,27 @@ std::string lower_extension(const std::filesystem::path& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext;
+}
+
+// CGAL's PLY reader (PLY_reader.h, init) adds each "property" to the last "element" seen
+// without checking that there is one: a property line before any element line reads through
+// an empty vector and crashes (found by fuzzing: tests/fuzz/corpus/read_mesh/crash-ply-*).
+// This checks the header's text first; everything else is left to CGAL.
+void check_ply_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  bool element = false;
+  for (int number = 1; number <= 100000 && std::getline(in, line); ++number) {
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "end_header") return;
+    if (keyword == "element") element = true;
+    if (keyword == "property" && !element) {
+      throw InputError(path + ": line " + std::to_string(number) +
+                       " of the PLY header declares a property before any element");
+    }
+  }
 }
 
 }  // namespace
@@ -45,6 +67,7 @@ Mesh read_mesh(const std::string& path) {
 
   // Faces as vectors of indices: reading into std::array<size_t, 3> corrupts the heap (the OBJ
   // reader grows faces one index at a time; see ENVIRONMENT.md).
+  if (ext == ".ply") check_ply_header(path);
   std::vector<Kernel::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
