@@ -11,7 +11,7 @@ OUT ?= out
 CMAKE_FLAGS ?=
 export DCG_MESHES ?= $(abspath ../shared/meshes)
 
-.PHONY: all deps build rig test addon bench clean
+.PHONY: all deps build rig test addon bench fuzz clean
 
 all: build
 
@@ -34,6 +34,12 @@ rig: build
 # Every suite (ctest, pytest, Blender); one closing line "N passed, N failed, N skipped".
 test: build
 	@bash scripts/run-tests.sh $(BUILD)
+
+# The libFuzzer targets (tests/fuzz/: mesh readers, stage 0) for FUZZ_SECONDS in all, built with
+# clang in build-fuzz/; `make test` runs them for 60 s. Crashing inputs: build-fuzz/artifacts/.
+FUZZ_SECONDS ?= 600
+fuzz: deps
+	@bash scripts/run-fuzz.sh $(FUZZ_SECONDS) $(BUILD)/test-results/fuzz-long.xml
 
 # The installable add-on with the compiled module: out/dcg_rig.zip.
 addon: build

@@ -10,6 +10,7 @@ PACKAGES=(
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest
   libgtest-dev libbenchmark-dev
   blender python3-matplotlib python3-distributed
+  clang libclang-rt-14-dev  # libFuzzer + sanitizers for scripts/run-fuzz.sh (make fuzz)
 )
 
 missing=()

@@ -41,6 +41,17 @@ else
   echo "== C++ tests under ASan + UBSan: skipped (SANITIZE=0)"
 fi
 
+# libFuzzer on the mesh readers and stage 0 (clang, build-fuzz/ beside $BUILD) for FUZZ_SECONDS
+# (60) in all, after replaying the regression inputs of tests/fuzz/corpus/; suite `fuzz` (pass =
+# no crash). Reported as skipped when clang is missing; FUZZ=0 leaves it out.
+if [ "${FUZZ:-1}" != 0 ]; then
+  echo "== Fuzzing (libFuzzer, ${FUZZ_SECONDS:-60} s)"
+  FUZZ_BUILD="$BUILD-fuzz" bash scripts/run-fuzz.sh "${FUZZ_SECONDS:-60}" "$RESULTS/fuzz.xml"
+  SUMMARY_FILES+=("$RESULTS/fuzz.xml")
+else
+  echo "== Fuzzing: skipped (FUZZ=0)"
+fi
+
 echo "== Python tests (pytest, /usr/bin/python3)"
 PYTHONPATH="$BUILD/python" /usr/bin/python3 -m pytest tests/python -q -p no:cacheprovider \
   --junitxml="$RESULTS/python.xml"
