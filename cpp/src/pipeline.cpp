@@ -1,11 +1,9 @@
 // The pipeline: option table, stepwise Extractor and extract_skeleton(). See dcg/pipeline.h.
 //
-// Stages 4-8 are not implemented yet. Until they land, skeleton() builds an INTERIM graph from
-// the domain points of stage 2 (method "interim_graph", see build_interim_graph below): a
-// Euclidean minimum spanning tree, short twigs pruned, chains of degree-2 points turned into
-// link polylines. It is real data from real stages, good enough to run the whole path into
-// Blender, and it is replaced by stages 4-8 (ALGORITHM.md) without changing the Skeleton type.
-// Stage 3 only sets the significance of its end nodes (mark_prong_ends).
+// skeleton() runs stages 0-8 (method "dcg"). The INTERIM graph of the domain points of stage 2
+// (build_interim_graph below: a Euclidean minimum spanning tree, short twigs pruned, chains of
+// degree-2 points turned into link polylines) is kept only as the fallback when stages 4-8 fail;
+// `method` then says "interim_graph (fallback: <reason>)".
 #include "dcg/pipeline.h"
 
 #include <algorithm>
@@ -269,6 +267,124 @@ void mark_prong_ends(const Prongs& prongs, Skeleton& s) {
   }
 }
 
+// The end point of a prong whose peak no stage-1 ball sees: the middle of the chord from the
+// peak vertex inward to the opposite wall. Inward: against the vertex normal (area-weighted face
+// normals), else toward the centroid of its faces, else toward `toward` (a point inside, e.g. the nearest ball center), else along the
+// normal (the normal of a needle tip after remeshing can point in). `radius` receives the
+// point's distance to the surface, 0 when no direction gives a point inside.
+Eigen::Vector3d inward_point(const Mesh& mesh, const SurfaceQuery& query, int vertex,
+                             const Eigen::Vector3d& toward, double* radius) {
+  *radius = 0;
+  if (vertex < 0 || vertex >= mesh.V.rows()) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero(), ring = Eigen::Vector3d::Zero();
+  int corners = 0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    if (mesh.F(f, 0) != vertex && mesh.F(f, 1) != vertex && mesh.F(f, 2) != vertex) continue;
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                          c = mesh.V.row(mesh.F(f, 2));
+    normal += (b - a).cross(c - a);
+    ring += a + b + c;
+    corners += 3;
+  }
+  const Eigen::Vector3d peak = mesh.V.row(vertex).transpose();
+  std::vector<Eigen::Vector3d> directions;
+  if (normal.norm() > 0) directions.push_back(-normal.normalized());
+  if (corners > 0 && (ring / corners - peak).norm() > 0) {
+    directions.push_back((ring / corners - peak).normalized());  // a folded tip: its 1-ring
+  }
+  if ((toward - peak).norm() > 0) directions.push_back((toward - peak).normalized());
+  if (normal.norm() > 0) directions.push_back(normal.normalized());
+  for (const Eigen::Vector3d& d : directions) {
+    const Eigen::Vector3d start = peak + 1e-6 * d;
+    if (!query.inside(start)) continue;
+    const double wall = query.ray_hit(start, d);
+    if (!std::isfinite(wall)) continue;
+    const Eigen::Vector3d p = start + 0.5 * wall * d;
+    if (!query.inside(p)) continue;
+    *radius = query.distance(p);
+    return p;
+  }
+  return Eigen::Vector3d::Zero();
+}
+
+// --- keeping the skeleton inside the input surface ----------------------------------------------
+
+// The working mesh of stage 0 may bulge out of a remeshed input (concave places, thin parts): a
+// node or a polyline point at p that is not at least 1e-7 inside `surface` moves to
+// q + t (q - p) / |q - p|, q its closest surface point, for the largest t among {0.5, 0.25, 0.1,
+// 0.03, 0.01} x r (r its radius) and half the part's thickness there (never past the opposite
+// wall) that lands at least 1e-7 inside. Returns how many points could not be moved inside.
+int keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r, const SurfaceQuery& surface,
+                      int* moved) {
+  const Eigen::Vector3d p = point.transpose();
+  if (surface.signed_distance(p) < -1e-7) return 0;
+  const Eigen::Vector3d q = surface.closest_point(p);
+  const Eigen::Vector3d d = q - p;
+  if (d.norm() < 1e-12) return 1;
+  const Eigen::Vector3d u = d.normalized();
+  // Candidate depths below q along u, deepest first, never past the opposite wall (the chord of
+  // the part there), landing at least 1e-7 inside.
+  const double wall = surface.ray_hit(q + 1e-6 * u, u) + 1e-6;
+  std::vector<double> depths = {0.5 * r, 0.25 * r, 0.1 * r, 0.03 * r, 0.01 * r};
+  if (std::isfinite(wall) && wall > 2e-6) {
+    depths.push_back(0.5 * wall);
+    depths.erase(std::remove_if(depths.begin(), depths.end(), [&](double x) { return x >= wall; }),
+                 depths.end());
+  }
+  std::sort(depths.rbegin(), depths.rend());
+  for (double depth : depths) {
+    const Eigen::Vector3d c = q + depth * u;
+    if (surface.signed_distance(c) < -1e-7) {
+      point = c.transpose();
+      ++*moved;
+      return 0;
+    }
+  }
+  // Folded or self-touching input there: the nearest point inside around p (32 directions,
+  // distances 0.25 to 4 r), preferring one at least r / 10 deep.
+  const Points dirs = fibonacci_sphere(32);
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d chosen = p;
+  for (double deep : {0.1 * r, 1e-7}) {
+    for (double step : {0.25, 0.5, 1.0, 2.0, 4.0}) {
+      for (Eigen::Index k = 0; k < dirs.rows(); ++k) {
+        const Eigen::Vector3d c = p + step * r * dirs.row(k).transpose();
+        if (step * r < best && surface.signed_distance(c) < -deep) {
+          best = step * r;
+          chosen = c;
+        }
+      }
+    }
+    if (std::isfinite(best)) {
+      point = chosen.transpose();
+      ++*moved;
+      return 0;
+    }
+  }
+  return 1;
+}
+
+// Skeleton (normalized units) against `surface`: nodes first, then polyline points (the ends of
+// each polyline are its nodes). Returns the points left outside; `moved` counts the moves.
+int keep_inside(Skeleton& s, const SurfaceQuery& surface, int* moved) {
+  int outside = 0;
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    outside += keep_point_inside(s.positions.row(i), s.radii[i], surface, moved);
+  }
+  for (Eigen::Index l = 0; l < s.links.rows(); ++l) {
+    Points& poly = s.polylines[l];
+    const int a = s.links(l, 0), b = s.links(l, 1);
+    const Eigen::Index last = poly.rows() - 1;
+    poly.row(0) = s.positions.row(a);
+    poly.row(last) = s.positions.row(b);
+    for (Eigen::Index i = 1; i < last; ++i) {
+      const double t = static_cast<double>(i) / last;
+      outside += keep_point_inside(poly.row(i), (1 - t) * s.radii[a] + t * s.radii[b], surface, moved);
+    }
+  }
+  return outside;
+}
+
 }  // namespace
 
 // --- options --------------------------------------------------------------------------------------
@@ -321,6 +437,12 @@ Extractor::Extractor(Vertices V, Faces F, Options options, ProgressCallback prog
 Extractor::~Extractor() = default;
 
 void Extractor::timed(const std::string& stage, double seconds) {
+  for (auto& t : timings_) {
+    if (t.first == stage) {  // a stage timed in two parts (force_field: build, domain points)
+      t.second += seconds;
+      return;
+    }
+  }
   timings_.emplace_back(stage, seconds);
 }
 
@@ -396,32 +518,226 @@ const EndPoints& Extractor::end_points() {
   return *end_points_;
 }
 
+const ForceField& Extractor::force_field() {
+  if (!field_) {
+    const PreparedMesh& pm = prepare();
+    progress_.report("force_field", 0.65);
+    const double t0 = now_seconds();
+    ForceFieldOptions fo;
+    fo.rays = options_.rays;
+    fo.force_exponent = options_.force_exponent;
+    field_.emplace(pm.query, fo);
+    timed("force_field", now_seconds() - t0);
+  }
+  return *field_;
+}
+
+const FieldSamples& Extractor::domain_field() {
+  if (!domain_field_) {
+    const DomainBalls& domain = domain_balls();
+    const ForceField& field = force_field();
+    const double t0 = now_seconds();
+    domain_field_ = field.evaluate(domain.balls.centers);
+    timed("force_field", now_seconds() - t0);
+  }
+  return *domain_field_;
+}
+
+const ConnectionPoints& Extractor::connection_points() {
+  if (!connection_) {
+    const DomainBalls& domain = domain_balls();
+    const ForceField& field = force_field();
+    progress_.report("connection_points", 0.7);
+    const double t0 = now_seconds();
+    ConnectionPointsOptions co;
+    co.shrink_step = options_.shrink_step;
+    connection_ = compute_connection_points(domain.balls.centers, field, co);
+    timed("connection_points", now_seconds() - t0);
+  }
+  return *connection_;
+}
+
+const DomainGraph& Extractor::domain_graph() {
+  if (!graph_) {
+    const PreparedMesh& pm = prepare();
+    domain_balls();
+    const EndPoints& ends = end_points();
+    const ConnectionPoints& cp = connection_points();
+    progress_.report("domain_graph", 0.8);
+    const double t0 = now_seconds();
+    const Eigen::Index c = cp.positions.rows();
+    std::vector<int> valid;
+    for (Eigen::Index e = 0; e < ends.ball.size(); ++e)
+      if (ends.ball[e] >= 0) valid.push_back(static_cast<int>(e));
+    const Eigen::Index count = c + static_cast<Eigen::Index>(valid.size());
+    Points points(count, 3);
+    Eigen::VectorXd radii(count);
+    Eigen::VectorXi prong = Eigen::VectorXi::Constant(count, -1);
+    points.topRows(c) = cp.positions;
+    radii.head(c) = cp.radii;
+    for (std::size_t k = 0; k < valid.size(); ++k) {
+      const Eigen::Index i = c + static_cast<Eigen::Index>(k);
+      points.row(i) = ends.centers.row(valid[k]);
+      radii[i] = ends.radii[valid[k]];
+      prong[i] = valid[k];
+    }
+    // A prong whose peak no stage-1 ball sees (a thin, curled tip) still gets its end point:
+    // the middle of the inward chord from its peak.
+    std::vector<std::pair<Eigen::Vector3d, double>> extra;
+    std::vector<int> extra_prong;
+    for (Eigen::Index e = 0; e < ends.ball.size(); ++e) {
+      if (ends.ball[e] >= 0) continue;
+      double r = 0;
+      // Toward the nearest domain point.
+      const Eigen::Vector3d peak = prongs_->prongs.positions.row(e).transpose();
+      const Points& centers = domain_->balls.centers;
+      Eigen::Vector3d toward = peak;
+      double best = std::numeric_limits<double>::infinity();
+      for (Eigen::Index i = 0; i < centers.rows(); ++i) {
+        const double d = (centers.row(i).transpose() - peak).squaredNorm();
+        if (d < best) {
+          best = d;
+          toward = centers.row(i).transpose();
+        }
+      }
+      const Eigen::Vector3d p = inward_point(pm.working, query(), prongs_->prongs.vertices[e], toward, &r);
+      if (r > 0) {
+        extra.emplace_back(p, r);
+        extra_prong.push_back(static_cast<int>(e));
+      }
+    }
+    if (!extra.empty()) {
+      const Eigen::Index old = points.rows(), add = static_cast<Eigen::Index>(extra.size());
+      points.conservativeResize(old + add, 3);
+      radii.conservativeResize(old + add);
+      prong.conservativeResize(old + add);
+      for (Eigen::Index k = 0; k < add; ++k) {
+        points.row(old + k) = extra[k].first.transpose();
+        radii[old + k] = extra[k].second;
+        prong[old + k] = extra_prong[k];
+      }
+    }
+    graph_ = compute_domain_graph(pm.working, force_field(), points, radii, prong, pm.genus);
+    timed("domain_graph", now_seconds() - t0);
+  }
+  return *graph_;
+}
+
+const Remapped& Extractor::remap() {
+  if (!remapped_) {
+    const DomainGraph& g = domain_graph();
+    const ConnectionPoints& cp = connection_points();
+    progress_.report("remap", 0.9);
+    const double t0 = now_seconds();
+    const Eigen::Index n = static_cast<Eigen::Index>(g.nodes.size());
+    Points nodes(n, 3);
+    Eigen::VectorXd radii(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      nodes.row(i) = g.points.row(g.nodes[i]);
+      radii[i] = g.radii[g.nodes[i]];
+    }
+    // Waypoints for links that leave the shape: points known to be inside (the stage-1 balls
+    // are dense in thin parts).
+    const Points& balls = voronoi_balls().centers;
+    Points waypoints(cp.shrunk.rows() + g.points.rows() + balls.rows(), 3);
+    waypoints << cp.shrunk, g.points, balls;
+    RemapOptions ro;
+    ro.snake_iterations = options_.snake_iterations;
+    remapped_ = remap_links(nodes, radii, g.links, force_field(), waypoints, ro);
+    timed("remap", now_seconds() - t0);
+  }
+  return *remapped_;
+}
+
+void Extractor::finish(Skeleton& s) {
+  const PreparedMesh& pm = *prepared_;
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) s.positions.row(i) = pm.to_input(s.positions.row(i));
+  for (auto& polyline : s.polylines) {
+    for (Eigen::Index i = 0; i < polyline.rows(); ++i) polyline.row(i) = pm.to_input(polyline.row(i));
+  }
+  s.radii *= pm.scale;
+  // Working-mesh face labels -> input faces: the label most of the face's vertices map to.
+  const Eigen::VectorXi working_labels = s.face_labels;
+  s.face_labels = Eigen::VectorXi::Constant(F_.rows(), -1);
+  if (working_labels.size() == pm.working.F.rows() && pm.map_face.size() == V_.rows()) {
+    for (Eigen::Index f = 0; f < F_.rows(); ++f) {
+      int label[3];
+      for (int k = 0; k < 3; ++k) {
+        const int wf = pm.map_face[F_(f, k)];
+        label[k] = wf >= 0 && wf < working_labels.size() ? working_labels[wf] : -1;
+      }
+      int best = label[0];
+      if (label[1] == label[2] && label[1] >= 0) best = label[1];
+      if (best < 0) best = label[1] >= 0 ? label[1] : label[2];
+      s.face_labels[f] = best;
+    }
+  }
+  s.input_vertices = static_cast<int>(V_.rows());
+  s.input_faces = static_cast<int>(F_.rows());
+  s.genus = pm.genus;
+  s.repaired = pm.repaired;
+  s.timings = timings_;
+  double total = 0;
+  for (const auto& t : timings_) total += t.second;
+  s.timings.emplace_back("total", total);
+}
+
+Skeleton Extractor::interim_skeleton() {
+  const DomainBalls& domain = domain_balls();
+  const Prongs& found = prongs().prongs;
+  const double t0 = now_seconds();
+  Skeleton s = build_interim_graph(domain.balls);
+  mark_prong_ends(found, s);
+  timed("interim_graph", now_seconds() - t0);
+  finish(s);
+  return s;
+}
+
 const Skeleton& Extractor::skeleton() {
   if (!skeleton_) {
-    const DomainBalls& domain = domain_balls();
-    const Prongs& found = prongs().prongs;
-    progress_.report("interim_graph", 0.65);
-    const double t0 = now_seconds();
-    Skeleton s = build_interim_graph(domain.balls);
-    mark_prong_ends(found, s);
-    timed("interim_graph", now_seconds() - t0);
-
-    // Back to the input's coordinates.
-    const PreparedMesh& pm = *prepared_;
-    for (Eigen::Index i = 0; i < s.positions.rows(); ++i) s.positions.row(i) = pm.to_input(s.positions.row(i));
-    for (auto& polyline : s.polylines) {
-      for (Eigen::Index i = 0; i < polyline.rows(); ++i) polyline.row(i) = pm.to_input(polyline.row(i));
+    // Stage by stage, in the order of their progress fractions.
+    prepare();
+    voronoi_balls();
+    domain_balls();
+    prongs();
+    std::string failure;
+    Skeleton s;
+    try {
+      end_points();
+      connection_points();
+      domain_graph();
+      const Remapped& remapped = remap();
+      progress_.report("skeleton", 0.97);
+      const double t0 = now_seconds();
+      const DomainGraph& g = *graph_;
+      if (g.nodes.empty()) throw std::runtime_error("stage 6 kept no node");
+      s = assemble_skeleton(g, remapped, prongs_->prongs.significance);
+      // The working mesh of a remeshed input may bulge out of it in concave places: hold the
+      // skeleton to the input's own surface when that is closed (else to the working mesh).
+      const PreparedMesh& pm = *prepared_;
+      int moved = 0;
+      if (pm.remeshed && !pm.repaired && pm.report.closed_manifold()) {
+        Mesh normalized;
+        normalized.V.resize(V_.rows(), 3);
+        for (Eigen::Index i = 0; i < V_.rows(); ++i) normalized.V.row(i) = (V_.row(i) - pm.offset) / pm.scale;
+        normalized.F = F_;
+        const SurfaceQuery input_surface(normalized);
+        keep_inside(s, input_surface, &moved);
+      } else {
+        keep_inside(s, query(), &moved);
+      }
+      timed("skeleton", now_seconds() - t0);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& e) {
+      failure = e.what();
     }
-    s.radii *= pm.scale;
-    s.face_labels = Eigen::VectorXi::Constant(F_.rows(), -1);  // stage 6 labels faces
-    s.input_vertices = static_cast<int>(V_.rows());
-    s.input_faces = static_cast<int>(F_.rows());
-    s.genus = pm.genus;
-    s.repaired = pm.repaired;
-    s.timings = timings_;
-    double total = 0;
-    for (const auto& t : timings_) total += t.second;
-    s.timings.emplace_back("total", total);
+    if (failure.empty()) {
+      finish(s);
+    } else {
+      s = interim_skeleton();
+      s.method = "interim_graph (fallback: " + failure + ")";
+    }
     progress_.report("done", 1.0);
     skeleton_ = std::move(s);
   }

@@ -119,7 +119,8 @@ def test_timings_and_skeleton_ends_carry_prong_significance(spot_extractor):
     prongs = ex.prongs()
     skeleton = ex.skeleton()
     stages = [name for name, _ in ex.timings]
-    for stage in ("prepare", "voronoi_balls", "domain_balls", "prongs", "interim_graph"):
+    for stage in ("prepare", "voronoi_balls", "domain_balls", "prongs", "end_points",
+                  "force_field", "connection_points", "domain_graph", "remap", "skeleton"):
         assert stage in stages, stage
     assert all(seconds >= 0 for _, seconds in ex.timings)
     ends = skeleton.kinds == "end"

@@ -7,10 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "dcg/connection_points.h"
 #include "dcg/domain_balls.h"
+#include "dcg/domain_graph.h"
+#include "dcg/force_field.h"
 #include "dcg/prepare.h"
 #include "dcg/progress.h"
 #include "dcg/prongs.h"
+#include "dcg/remap.h"
 #include "dcg/skeleton.h"
 #include "dcg/types.h"
 #include "dcg/voronoi_balls.h"
@@ -94,14 +98,32 @@ class Extractor {
   /// Each prong's end point: a stage-1 ball (radius >= min_radius / 2) that sees its peak
   /// (normalized units). Needs stages 0, 1 and 3.
   const EndPoints& end_points();
-  /// All stages: the skeleton in input coordinates.
+  /// Stage 4: the repulsive force field on the working mesh (normalized units).
+  const ForceField& force_field();
+  /// Stage 4 at the domain points of stage 2 (what the shrinking of stage 5 starts from).
+  const FieldSamples& domain_field();
+  /// Stage 5: the domain points shrunk along the field and merged (normalized units).
+  const ConnectionPoints& connection_points();
+  /// Stage 6: face labels of the working mesh, candidate links and the kept graph. Its points
+  /// are the connection points followed by the end points that have a ball (normalized units).
+  const DomainGraph& domain_graph();
+  /// Stage 7: one snake-fitted polyline per link of domain_graph() (normalized units).
+  const Remapped& remap();
+  /// Stage 8 (all stages): the skeleton in input coordinates, method "dcg". Should stages 4-8
+  /// fail (an exception other than Cancelled, or an empty graph), the interim graph of the
+  /// domain points stands in and `method` says "interim_graph (fallback: <reason>)".
   const Skeleton& skeleton();
+  /// The skeleton built from the domain points alone (minimum spanning tree, twigs pruned,
+  /// method "interim_graph"), in input coordinates: the fallback of skeleton().
+  Skeleton interim_skeleton();
   /// Seconds per stage run so far, in the order they ran.
   const std::vector<std::pair<std::string, double>>& timings() const { return timings_; }
 
  private:
   const SurfaceQuery& query();
   void timed(const std::string& stage, double seconds);
+  // Normalized skeleton -> input coordinates, input face labels, mesh facts and timings.
+  void finish(Skeleton& s);
 
   Vertices V_;
   Faces F_;
@@ -112,6 +134,11 @@ class Extractor {
   std::optional<DomainBalls> domain_;
   std::optional<ProngFeatures> prongs_;
   std::optional<EndPoints> end_points_;
+  std::optional<ForceField> field_;
+  std::optional<FieldSamples> domain_field_;
+  std::optional<ConnectionPoints> connection_;
+  std::optional<DomainGraph> graph_;
+  std::optional<Remapped> remapped_;
   std::optional<Skeleton> skeleton_;
   std::vector<std::pair<std::string, double>> timings_;
 };

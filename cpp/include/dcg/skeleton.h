@@ -11,6 +11,9 @@
 
 namespace dcg {
 
+struct DomainGraph;
+struct Remapped;
+
 enum class NodeKind { End, Joint, Connection };
 
 /// "end", "joint" or "connection": the names used in Python, JSON and Blender.
@@ -36,5 +39,14 @@ struct Skeleton {
   /// The stages that produced this skeleton, e.g. "interim_graph" while stages 4-8 are missing.
   std::string method;
 };
+
+/// Stage 8: the skeleton in NORMALIZED units (the working mesh's) from the graph of stage 6 and
+/// the polylines of stage 7 (one per graph link, in the same order). Nodes keep their points'
+/// positions and radii; an end node takes its prong's significance (`prong_significance`, #P
+/// prongs), an end that stands for no prong (the spine of a shape without prongs) gets 1, the
+/// weakest; other nodes 0. Root: the joint of largest radius, else the node of largest radius.
+/// face_labels: the node of each face of the WORKING mesh. method: "dcg".
+Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
+                           const Eigen::VectorXd& prong_significance);
 
 }  // namespace dcg

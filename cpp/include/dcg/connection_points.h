@@ -1,0 +1,67 @@
+// Stage 5 (ALGORITHM.md "Connection points", paper section 7): every domain point that is not an
+// end point shrinks along the repulsive field of stage 4 to a local minimum of |F|, and the
+// shrunk points are merged greedily into the connection points.
+//
+// Shrinking: p <- p + alpha * r_min(p)^(n+1) * F(p), with r_min the shortest ray distance at p
+// and n the field's exponent, the step capped at r_min / 2 (|F| r_min^n <= 1, so with alpha
+// <= 0.5 the cap never binds: a step cannot reach the wall it sees). A step that does not lower
+// |F|, or whose segment meets the surface, or that ends with more rays escaping than at p, is
+// refused and alpha halves. After an accepted step alpha doubles, up to max_growth x its start:
+// near the medial "balance" |F| r_min^n is small and the plain rule of ALGORITHM.md crawls
+// (a third of the points were still moving after 200 steps on a torus; with growth all stop,
+// in a third of the steps, at the same minima). The point stops at a local minimum of |F|
+// (max_halvings refusals in a row, a step below 1e-3 r_min, or three accepted steps in a row that
+// lower |F| by less than 1e-4 of itself) or after max_steps steps. A point
+// never leaves the shape: every accepted step is a segment that does not cross the surface.
+//
+// Merging: visit the shrunk points by increasing |F|; each one not yet absorbed absorbs every
+// point not yet absorbed within merge_fraction times the smaller of their two radii (distance to
+// the surface). Never by chaining: pairwise union would collapse a torus ring into a few points.
+// The survivors, at their own positions, are the connection points.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dcg/types.h"
+
+namespace dcg {
+
+class ForceField;
+
+struct ConnectionPointsOptions {
+  double shrink_step = 0.5;     ///< alpha, the initial step factor (ALGORITHM.md: 0.5)
+  int max_steps = 200;          ///< steps per point at most
+  int max_halvings = 6;         ///< refused steps in a row that mean "local minimum"
+  double max_growth = 8;        ///< alpha grows after accepted steps up to this x shrink_step
+  double merge_fraction = 0.5;  ///< merge points closer than this x the smaller radius
+};
+
+struct ConnectionPoints {
+  // Per domain point (#D), in the order given.
+  Points shrunk;                      ///< #D by 3 positions after shrinking
+  Eigen::VectorXd shrunk_magnitude;   ///< #D |F| there
+  Eigen::VectorXd shrunk_radii;       ///< #D distance to the surface there
+  Eigen::VectorXi steps;              ///< #D accepted steps
+  std::vector<char> converged;        ///< #D stopped at a local minimum (else: step limit)
+  Eigen::VectorXi cluster;            ///< #D index of the connection point that absorbed it
+  // The connection points (#C), by increasing |F|.
+  Points positions;                   ///< #C by 3
+  Eigen::VectorXd radii;              ///< #C distance to the surface
+  Eigen::VectorXd magnitude;          ///< #C |F|
+  Eigen::VectorXi source;             ///< #C the domain point each one is
+};
+
+/// domain_points: #D by 3 domain points (stage 2 centers; end points excluded), inside the closed
+/// mesh of `field`. Points are shrunk in parallel (TBB); the result does not depend on threads.
+ConnectionPoints compute_connection_points(const Points& domain_points, const ForceField& field,
+                                           const ConnectionPointsOptions& options = {});
+
+/// The greedy merge alone (exposed for tests): points #D by 3, magnitude #D, radii #D.
+/// Returns #D cluster indices; survivors[c] is the point that cluster c keeps.
+Eigen::VectorXi merge_greedily(const Points& points, const Eigen::VectorXd& magnitude,
+                               const Eigen::VectorXd& radii, double merge_fraction,
+                               std::vector<int>* survivors);
+
+}  // namespace dcg
