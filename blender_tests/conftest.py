@@ -95,7 +95,17 @@ def scene_counts():
         "modifiers": {o.name: [m.name for m in o.modifiers] for o in bpy.data.objects},
         "groups": {o.name: [g.name for g in o.vertex_groups] for o in bpy.data.objects},
         "parents": {o.name: o.parent.name if o.parent else None for o in bpy.data.objects},
+        "mesh data": {m.name: _mesh_digest(m) for m in bpy.data.meshes},
     }
+
+
+def _mesh_digest(mesh):
+    """Vertex coordinates and polygon vertex indices of a mesh datablock, as bytes."""
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    loops = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loops)
+    return co.tobytes() + loops.tobytes()
 
 
 def pytest_configure(config):
