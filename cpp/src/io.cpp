@@ -6,10 +6,12 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "dcg/errors.h"
@@ -47,6 +49,79 @@ void check_ply_header(const std::string& path) {
   }
 }
 
+// CGAL's OFF reader trusts the numbers of an ASCII file: a header count or a face's corner
+// count is turned into an allocation as it is (a ten-byte line can ask for exabytes: a crash
+// under the sanitizers, bad_alloc or the OOM killer without them), and face indices are read
+// as doubles and cast to size_t (undefined for 1e100). Found by fuzzing
+// (tests/fuzz/corpus/read_mesh/crash-off-*). This scans an ASCII OFF file first and refuses
+// counts the file cannot hold and face entries that are not indices into the vertices. A file
+// this scan cannot follow (binary OFF, coordinates over several lines) is left to CGAL.
+void check_off(const std::string& path, std::uintmax_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::vector<std::string> words;
+  auto next_line = [&]() {  // the next line with words, comments dropped
+    while (std::getline(in, line)) {
+      const auto hash = line.find('#');
+      if (hash != std::string::npos) line.resize(hash);
+      std::istringstream ss(line);
+      words.clear();
+      for (std::string w; ss >> w;) words.push_back(w);
+      if (!words.empty()) return true;
+    }
+    return false;
+  };
+  auto as_count = [](const std::string& w, long long& value) {
+    if (w.empty() || w.size() > 18 || w.find_first_not_of("0123456789") != std::string::npos) {
+      return false;
+    }
+    value = std::stoll(w);
+    return true;
+  };
+  if (!next_line()) return;
+  const std::string& keyword = words[0];
+  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0 ||
+      keyword.find_first_of("4n") != std::string::npos) {
+    return;  // not the plain 3D OFF this scan knows
+  }
+  std::vector<std::string> counts(words.begin() + 1, words.end());
+  if (counts.size() == 1 && counts[0] == "BINARY") return;
+  if (counts.empty()) {
+    if (!next_line()) return;
+    counts = words;
+  }
+  long long nv = 0, nf = 0;
+  if (counts.size() < 2 || !as_count(counts[0], nv) || !as_count(counts[1], nf)) {
+    throw InputError(path + ": the OFF header's vertex and face counts are not whole numbers");
+  }
+  // Each vertex takes at least 6 bytes ("0 0 0\n"), each face at least 8 ("3 0 1 2\n").
+  if (nv > static_cast<long long>(file_size / 6) || nf > static_cast<long long>(file_size / 8)) {
+    throw InputError(path + ": the OFF header announces " + std::to_string(nv) + " vertices and " +
+                     std::to_string(nf) + " faces, more than its " + std::to_string(file_size) +
+                     " bytes can hold");
+  }
+  for (long long i = 0; i < nv; ++i) {
+    if (!next_line()) return;
+    if (words.size() < 3) return;  // coordinates over several lines: leave it to CGAL
+  }
+  for (long long f = 0; f < nf; ++f) {
+    if (!next_line()) return;
+    long long corners = 0;
+    if (!as_count(words[0], corners) || corners + 1 > static_cast<long long>(words.size())) {
+      throw InputError(path + ": OFF face " + std::to_string(f) + " does not start with its "
+                       "number of corners followed by that many vertex indices");
+    }
+    for (long long k = 1; k <= corners; ++k) {
+      long long index = 0;
+      if (!as_count(words[k], index) || index >= nv) {
+        throw InputError(path + ": OFF face " + std::to_string(f) + " has vertex index '" +
+                         words[k] + "', not an index into its " + std::to_string(nv) +
+                         " vertices");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 Mesh read_mesh(const std::string& path) {
@@ -68,6 +143,7 @@ Mesh read_mesh(const std::string& path) {
   // Faces as vectors of indices: reading into std::array<size_t, 3> corrupts the heap (the OBJ
   // reader grows faces one index at a time; see ENVIRONMENT.md).
   if (ext == ".ply") check_ply_header(path);
+  if (ext == ".off") check_off(path, fs::file_size(p, ec));
   std::vector<Kernel::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   bool ok = false;
