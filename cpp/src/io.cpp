@@ -94,6 +94,14 @@ void check_off(const std::string& path, std::uintmax_t file_size) {
   if (counts.size() < 2 || !as_count(counts[0], nv) || !as_count(counts[1], nf)) {
     throw InputError(path + ": the OFF header's vertex and face counts are not whole numbers");
   }
+  // The edge count is unused, but CGAL doubles it as an int: more than 1e9 overflows.
+  if (counts.size() >= 3) {
+    std::string digits = counts[2].substr(0, counts[2].find_first_not_of("0123456789"));
+    digits.erase(0, std::min(digits.find_first_not_of('0'), digits.size()));
+    if (digits.size() > 9) {
+      throw InputError(path + ": the OFF header's edge count " + counts[2] + " is too large");
+    }
+  }
   // Each vertex takes at least 6 bytes ("0 0 0\n"), each face at least 8 ("3 0 1 2\n").
   if (nv > static_cast<long long>(file_size / 6) || nf > static_cast<long long>(file_size / 8)) {
     throw InputError(path + ": the OFF header announces " + std::to_string(nv) + " vertices and " +
