@@ -2,11 +2,25 @@
 // has its own file. The Python package bindings/dcg wraps it (validation, Skeleton, CLI).
 #include "common.h"
 
+#include <cstring>
+
 #include "dcg/errors.h"
 
 namespace dcg_py {
 void bind_weights(py::module_& m);  // bind_weights.cpp
 }  // namespace dcg_py
+
+namespace {
+// Messages quote file names and file content, which need not be UTF-8: decode with
+// replacement characters (PyErr_SetString would fail and leave an empty ValueError).
+void set_error(PyObject* type, const char* message) {
+  PyObject* text = PyUnicode_DecodeUTF8(message, static_cast<Py_ssize_t>(std::strlen(message)),
+                                        "replace");
+  if (!text) return;  // the decoding error stays set
+  PyErr_SetObject(type, text);
+  Py_DECREF(text);
+}
+}  // namespace
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "DCG skeleton engine (C++). Use the dcg package, not this module directly.";
@@ -18,9 +32,9 @@ PYBIND11_MODULE(_core, m) {
     } catch (const dcg::Cancelled& e) {
       cancelled(e.what());
     } catch (const dcg::InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      set_error(PyExc_ValueError, e.what());
     } catch (const dcg::IoError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      set_error(PyExc_OSError, e.what());
     }
   });
   dcg_py::bind_io(m);

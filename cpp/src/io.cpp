@@ -79,16 +79,24 @@ void check_off(const std::string& path, std::uintmax_t file_size) {
     return true;
   };
   if (!next_line()) return;
-  const std::string& keyword = words[0];
-  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0 ||
-      keyword.find_first_of("4n") != std::string::npos) {
-    return;  // not the plain 3D OFF this scan knows
-  }
-  std::vector<std::string> counts(words.begin() + 1, words.end());
-  if (counts.size() == 1 && counts[0] == "BINARY") return;
-  if (counts.empty()) {
-    if (!next_line()) return;
-    counts = words;
+  // The keyword: [ST][C][N][4][n]OFF, optionally followed by BINARY; CGAL also reads a file
+  // without it (the counts come first).
+  std::vector<std::string> counts = words;
+  const std::string keyword = words[0];
+  const auto at = keyword.find("OFF");
+  if (at != std::string::npos) {
+    if (at + 3 != keyword.size()) {
+      throw InputError(path + ": the OFF header's first word '" + keyword + "' is not OFF");
+    }
+    if (keyword.find_first_of("4n") < at) {
+      throw InputError(path + ": " + keyword + " files (4D or nD points) are not supported");
+    }
+    counts.erase(counts.begin());
+    if (!counts.empty() && counts[0] == "BINARY") return;  // left to CGAL
+    if (counts.empty()) {
+      if (!next_line()) return;
+      counts = words;
+    }
   }
   long long nv = 0, nf = 0;
   if (counts.size() < 2 || !as_count(counts[0], nv) || !as_count(counts[1], nf)) {

@@ -371,6 +371,7 @@ def test_polygon_faces_in_files_are_triangulated(tmp_path):
     ("claims.off", "OFF\n100000000 1 0\n0 0 0\n"),
     ("corners.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + "1" + "8" * 100 + " 0 1 2\n"),
     ("edges.off", "OFF\n4 1 2118915556\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n"),
+    ("keyword.off", "OFF\xd75 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n3 0 1 " + "8" * 20 + "\n"),
     ("bigindex.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n4 0 1 2 3\n3 0 1 "
      + "8" * 117 + "\n"),
 ])
