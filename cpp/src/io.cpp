@@ -10,6 +10,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -28,23 +29,45 @@ std::string lower_extension(const std::filesystem::path& path) {
   return ext;
 }
 
-// CGAL's PLY reader (PLY_reader.h, init) adds each "property" to the last "element" seen
-// without checking that there is one: a property line before any element line reads through
-// an empty vector and crashes (found by fuzzing: tests/fuzz/corpus/read_mesh/crash-ply-*).
-// This checks the header's text first; everything else is left to CGAL.
+// CGAL's PLY reader trusts the header: it adds each "property" to the last "element" seen
+// without checking that there is one (PLY_reader.h, init), and reads the vertex coordinates
+// and the face indices through a dynamic_cast to the types it expects, dereferencing the null
+// pointer when the header declares another (a uchar z, float indices). Both crash (found by
+// fuzzing: tests/fuzz/corpus/read_mesh/crash-ply-*). This checks the header's text first;
+// everything else is left to CGAL.
 void check_ply_header(const std::string& path) {
+  static const std::set<std::string> reals = {"float", "float32", "double", "float64"};
+  static const std::set<std::string> integers = {"char",   "int8",  "uchar", "uint8",
+                                                 "short",  "int16", "ushort", "uint16",
+                                                 "int",    "int32", "uint",  "uint32"};
   std::ifstream in(path, std::ios::binary);
-  std::string line;
-  bool element = false;
+  std::string line, element;
   for (int number = 1; number <= 100000 && std::getline(in, line); ++number) {
     std::istringstream words(line);
     std::string keyword;
     words >> keyword;
     if (keyword == "end_header") return;
-    if (keyword == "element") element = true;
-    if (keyword == "property" && !element) {
-      throw InputError(path + ": line " + std::to_string(number) +
-                       " of the PLY header declares a property before any element");
+    auto fail = [&](const std::string& why) {
+      throw InputError(path + ": line " + std::to_string(number) + " of the PLY header " + why);
+    };
+    if (keyword == "element") {
+      if (!(words >> element)) fail("names no element");
+    } else if (keyword == "property") {
+      if (element.empty()) fail("declares a property before any element");
+      std::string type, name;
+      words >> type >> name;
+      if (type == "list") {
+        std::string size_type = name, index_type;
+        words >> index_type >> name;
+        if (element == "face" && (name == "vertex_indices" || name == "vertex_index") &&
+            (!integers.count(size_type) || !integers.count(index_type))) {
+          fail("gives the face indices a type that is not an integer");
+        }
+      } else if (element == "vertex" && (name == "x" || name == "y" || name == "z") &&
+                 !reals.count(type)) {
+        fail("gives vertex coordinate " + name + " the type '" + type +
+             "' (float or double expected)");
+      }
     }
   }
 }
