@@ -47,7 +47,8 @@ addon: build
 	@$(PYTHON) scripts/make_addon_zip.py $(BUILD)/blender_scripts/addons/dcg_rig $(OUT)/dcg_rig.zip
 
 # Timings of every stage on every mesh of MESHES (folders or files), with CGAL's mean curvature
-# flow skeleton as the baseline: out/bench/report.md (and results.jsonl); then `dcg batch` models
+# flow skeleton as the baseline: out/bench/report.md (and results.jsonl); the whole pipeline on a
+# 1.4M-face subdivided armadillo, time and peak RSS (out/bench/big.md); then `dcg batch` models
 # per minute with 1 and 2 workers: out/bench/batch.md; our skinning weights against Blender's bone
 # heat on the same armatures (out/bench/weights.md, and spot at scales 0.01 and 100 in
 # weights-scaled.md). Not part of `make test`.
@@ -57,6 +58,8 @@ BENCH_FILES = $(sort $(foreach m,$(MESHES),$(if $(wildcard $(m)/.),$(wildcard $(
 bench: build
 	@cmake --build $(BUILD) --target dcg_bench -j$(JOBS)
 	$(PYTHON) scripts/bench.py --binary $(BUILD)/dcg_bench --out $(OUT)/bench/report.md $(MESHES)
+	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_big.py --mesh $(OUT)/bench/armadillo-1m.ply \
+	  --out $(OUT)/bench/big.md
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_batch.py --out $(OUT)/bench/batch.md $(MESHES)
 	$(BLENDER) -b --factory-startup --python scripts/bench_weights.py -- --pythonpath $(BUILD)/python \
 	  --out $(OUT)/bench/weights.md $(BENCH_FILES)
