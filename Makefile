@@ -39,7 +39,7 @@ test: build
 # clang in build-fuzz/; `make test` runs them for 60 s. Crashing inputs: build-fuzz/artifacts/.
 FUZZ_SECONDS ?= 600
 fuzz: deps
-	@bash scripts/run-fuzz.sh $(FUZZ_SECONDS) $(BUILD)/test-results/fuzz-long.xml
+	@FUZZ_KEEP_CORPUS=1 bash scripts/run-fuzz.sh $(FUZZ_SECONDS) $(BUILD)/test-results/fuzz-long.xml
 
 # The installable add-on with the compiled module: out/dcg_rig.zip.
 addon: build

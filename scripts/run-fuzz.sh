@@ -4,8 +4,8 @@
 # Writes JUnit XML (suite "fuzz", one test per target; pass = no crash, no sanitizer report,
 # no timeout) to $2 when given. Without clang the suite is reported as skipped, with a note.
 #   scripts/run-fuzz.sh [SECONDS] [RESULTS_XML]
-# New inputs the fuzzer finds interesting are kept in build-fuzz/corpus/<target>/ (reused next
-# time); a crashing input is saved as build-fuzz/artifacts/<target>/crash-*: once fixed, copy it
+# New inputs the fuzzer finds interesting go to build-fuzz/corpus/<target>/ (reused next time
+# only with FUZZ_KEEP_CORPUS=1, as `make fuzz` does); a crashing input is saved as build-fuzz/artifacts/<target>/crash-*: once fixed, copy it
 # into tests/fuzz/corpus/<target>/ so that every later run replays it.
 set -uo pipefail
 SECONDS_TOTAL=${1:-60}
@@ -69,6 +69,11 @@ per_target=$(( SECONDS_TOTAL / ${#TARGETS[@]} ))
 for t in "${TARGETS[@]}"; do
   corpus=$BUILD/corpus/$t
   artifacts=$BUILD/artifacts/$t
+  # The inputs found by earlier runs are replayed before any new fuzzing, and libFuzzer cannot
+  # stop during that replay: stage 0 runs a few inputs a second under the sanitizers, so a
+  # corpus grown over long runs would eat a short budget. Short runs (make test) start again
+  # from the repository's inputs; FUZZ_KEEP_CORPUS=1 (make fuzz) keeps growing it.
+  [ "${FUZZ_KEEP_CORPUS:-0}" = 1 ] || rm -rf "$corpus"
   mkdir -p "$corpus" "$artifacts" "tests/fuzz/corpus/$t"
   log=$BUILD/fuzz_$t.log
   start=$(date +%s)

@@ -32,10 +32,10 @@ std::string lower_extension(const std::filesystem::path& path) {
 // CGAL's PLY reader trusts the header: it adds each "property" to the last "element" seen
 // without checking that there is one (PLY_reader.h, init), and reads the vertex coordinates
 // and the face indices through a dynamic_cast to the types it expects, dereferencing the null
-// pointer when the header declares another (a uchar z, float indices). Both crash (found by
-// fuzzing: tests/fuzz/corpus/read_mesh/crash-ply-*). This checks the header's text first;
+// pointer when the header declares another (a uchar z, float indices). Both crash, and an
+// element count of -1 hangs it (found by fuzzing: tests/fuzz/corpus/read_mesh/crash-ply-*). This checks the header's text first;
 // everything else is left to CGAL.
-void check_ply_header(const std::string& path) {
+void check_ply_header(const std::string& path, std::uintmax_t file_size) {
   static const std::set<std::string> reals = {"float", "float32", "double", "float64"};
   static const std::set<std::string> integers = {"char",   "int8",  "uchar", "uint8",
                                                  "short",  "int16", "ushort", "uint16",
@@ -51,7 +51,16 @@ void check_ply_header(const std::string& path) {
       throw InputError(path + ": line " + std::to_string(number) + " of the PLY header " + why);
     };
     if (keyword == "element") {
-      if (!(words >> element)) fail("names no element");
+      // A count the file cannot hold (or -1, read as 2^64 - 1) kept CGAL reading at the end of
+      // the file forever (found by fuzzing): at most one element per byte of the file.
+      std::string count;
+      if (!(words >> element >> count)) fail("names no element and count");
+      if (count.empty() || count.size() > 18 ||
+          count.find_first_not_of("0123456789") != std::string::npos ||
+          std::stoull(count) > file_size) {
+        fail("gives element " + element + " the count '" + count + "', not a number of " +
+             "elements its " + std::to_string(file_size) + " bytes can hold");
+      }
     } else if (keyword == "property") {
       if (element.empty()) fail("declares a property before any element");
       std::string type, name;
@@ -181,7 +190,7 @@ Mesh read_mesh(const std::string& path) {
 
   // Faces as vectors of indices: reading into std::array<size_t, 3> corrupts the heap (the OBJ
   // reader grows faces one index at a time; see ENVIRONMENT.md).
-  if (ext == ".ply") check_ply_header(path);
+  if (ext == ".ply") check_ply_header(path, fs::file_size(p, ec));
   if (ext == ".off") check_off(path, fs::file_size(p, ec));
   std::vector<Kernel::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;

@@ -372,6 +372,9 @@ def test_polygon_faces_in_files_are_triangulated(tmp_path):
     ("float-indices.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
      "property float y\nproperty float z\nelement face 1\n"
      "property list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+    ("count.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+     "property float y\nproperty float z\nelement face -1\n"
+     "property list uchar int vertex_indices\nend_header\n" + "\x00" * 40),
     # Found by fuzzing: CGAL reads OFF indices as doubles and casts them to size_t.
     # Found by fuzzing: CGAL allocated counts the file cannot hold as they are.
     ("claims.off", "OFF\n100000000 1 0\n0 0 0\n"),
