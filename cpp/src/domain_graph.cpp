@@ -12,6 +12,7 @@
 #include <tuple>
 #include <utility>
 
+#include <Eigen/Eigenvalues>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -119,7 +120,7 @@ struct Graph {
 DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, const Points& points,
                                  const Eigen::VectorXd& radii, const Eigen::VectorXi& prong,
                                  int genus, const DomainGraphOptions& options) {
-  const int P = static_cast<int>(points.rows());
+  int P = static_cast<int>(points.rows());
   const int nf = static_cast<int>(mesh.F.rows());
   if (radii.size() != P || prong.size() != P) {
     throw InputError("domain graph: points, radii and prong differ in length");
@@ -171,7 +172,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     unsigned char blocked[8];
     for (int f = range.begin(); f != range.end(); ++f) {
       const Eigen::RowVector3d c = centroid.row(f);
-      for (int p = 0; p < P; ++p) d[p] = {(points.row(p) - c).squaredNorm(), p};
+      for (int p = 0; p < P; ++p) d[p] = {(points.row(p) - c).norm() - radii[p], p};
       std::partial_sort(d.begin(), d.begin() + candidates, d.end());
       for (int start = 0; start < candidates && g.visible_owner[f] < 0; start += 8) {
         const int n = std::min(8, candidates - start);
@@ -555,7 +556,122 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     }
   }
 
+  // --- joints whose balls overlap along the chain between them are one junction ----------------
+  if (options.merge_joints) {
+    std::vector<std::vector<int>> members(P);
+    for (int p = 0; p < P; ++p) members[p] = {p};
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (int a = 0; a < P && !changed; ++a) {
+        if (!graph.alive[a] || graph.degree(a) < 3) continue;
+        for (int first : graph.adj[a]) {
+          // Walk the chain of degree-2 points from a through `first`.
+          std::vector<int> chain;
+          int prev = a, cur = first;
+          double length = (points.row(a) - points.row(first)).norm();
+          while (graph.degree(cur) == 2 && cur != a) {
+            chain.push_back(cur);
+            const int next = *graph.adj[cur].begin() == prev ? *std::next(graph.adj[cur].begin())
+                                                              : *graph.adj[cur].begin();
+            length += (points.row(cur) - points.row(next)).norm();
+            prev = cur;
+            cur = next;
+          }
+          const int b = cur;
+          if (b == a || graph.degree(b) < 3) continue;
+          // The gap between the two junctions' balls along the chain, each junction being the
+          // union of the joints merged into it so far (the chain hangs from one of them).
+          double gap = 0;
+          if (chain.empty()) {
+            gap = std::numeric_limits<double>::infinity();
+            for (int m : members[a])
+              for (int n : members[b])
+                gap = std::min(gap, (points.row(m) - points.row(n)).norm() - radii[m] - radii[n]);
+          } else {
+            double inner = 0;
+            for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+              inner += (points.row(chain[k]) - points.row(chain[k + 1])).norm();
+            }
+            double head = std::numeric_limits<double>::infinity(), tail = head;
+            for (int m : members[a]) head = std::min(head, (points.row(m) - points.row(chain.front())).norm() - radii[m]);
+            for (int n : members[b]) tail = std::min(tail, (points.row(n) - points.row(chain.back())).norm() - radii[n]);
+            gap = head + inner + tail;
+          }
+          (void)length;
+          if (gap >= 0) continue;
+          // Only across a bridge: merging the two ends of a cycle would fold it.
+          std::vector<char> seen(graph.alive.size(), 0);
+          for (int c : chain) seen[c] = 1;
+          seen[a] = 1;
+          std::vector<int> stack;
+          for (int n : graph.adj[a]) {
+            if (n == (chain.empty() ? b : chain.front())) continue;
+            if (!seen[n]) {
+              seen[n] = 1;
+              stack.push_back(n);
+            }
+          }
+          bool other_path = false;
+          while (!stack.empty() && !other_path) {
+            const int u = stack.back();
+            stack.pop_back();
+            for (int n : graph.adj[u]) {
+              if (n == b) other_path = true;
+              if (!seen[n]) {
+                seen[n] = 1;
+                stack.push_back(n);
+              }
+            }
+          }
+          if (other_path) continue;
+          const int keep = radii[b] > radii[a] ? b : a, gone = keep == a ? b : a;
+          for (int c : chain) graph.merge(keep, c);
+          graph.merge(keep, gone);
+          members[keep].insert(members[keep].end(), members[gone].begin(), members[gone].end());
+          ++g.joints_merged;
+          changed = true;
+          break;
+        }
+      }
+    }
+  }
+
+  // --- a spine for a shape that shrank to one point ------------------------------------------
+  // (a sphere: every domain point reaches its center) so that it still gets a bone: two points
+  // on its principal axis, half way from the center to the surface on either side.
+  if (graph.count_alive() == 1) {
+    int c = 0;
+    while (!graph.alive[c]) ++c;
+    const Eigen::RowVector3d mean = mesh.V.colwise().mean();
+    const Eigen::MatrixXd centered = mesh.V.rowwise() - mean;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(centered.transpose() * centered);
+    const Eigen::Vector3d axis = pca.eigenvectors().col(2);
+    const Eigen::Vector3d pc = g.points.row(c).transpose();
+    std::vector<Eigen::Vector3d> spine;
+    for (double side : {1.0, -1.0}) {
+      const double wall = query.ray_hit(pc, side * axis);
+      if (!std::isfinite(wall) || wall <= 0) continue;
+      const Eigen::Vector3d q = pc + 0.5 * wall * side * axis;
+      if (query.inside(q)) spine.push_back(q);
+    }
+    for (const Eigen::Vector3d& q : spine) {
+      const int index = static_cast<int>(g.points.rows());
+      g.points.conservativeResize(index + 1, 3);
+      g.points.row(index) = q.transpose();
+      g.radii.conservativeResize(index + 1);
+      g.radii[index] = query.distance(q);
+      g.prong.conservativeResize(index + 1);
+      g.prong[index] = -1;
+      has_face.push_back(0);
+      graph.adj.emplace_back();
+      graph.alive.push_back(1);
+      graph.absorbed_by.push_back(-1);
+      graph.link(c, index);
+    }
+  }
+
   // --- the kept graph -----------------------------------------------------------------------
+  P = static_cast<int>(g.points.rows());
   g.node_of_point = Eigen::VectorXi::Constant(P, -1);
   for (int p = 0; p < P; ++p) {
     if (graph.alive[p]) {

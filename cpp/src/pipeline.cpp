@@ -317,7 +317,11 @@ Eigen::Vector3d inward_point(const Mesh& mesh, const SurfaceQuery& query, int ve
 int keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r, const SurfaceQuery& surface,
                       int* moved) {
   const Eigen::Vector3d p = point.transpose();
-  if (surface.signed_distance(p) < -1e-7) return 0;
+  // Ray parity, not the pseudo-normals: the input's own winding may be inside out (mirrored).
+  auto inside = [&](const Eigen::Vector3d& c, double depth) {
+    return surface.inside_by_parity(c) && surface.distance(c) > depth;
+  };
+  if (inside(p, 1e-7)) return 0;
   const Eigen::Vector3d q = surface.closest_point(p);
   const Eigen::Vector3d d = q - p;
   if (d.norm() < 1e-12) return 1;
@@ -334,7 +338,7 @@ int keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r, const Surf
   std::sort(depths.rbegin(), depths.rend());
   for (double depth : depths) {
     const Eigen::Vector3d c = q + depth * u;
-    if (surface.signed_distance(c) < -1e-7) {
+    if (inside(c, 1e-7)) {
       point = c.transpose();
       ++*moved;
       return 0;
@@ -349,7 +353,7 @@ int keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r, const Surf
     for (double step : {0.25, 0.5, 1.0, 2.0, 4.0}) {
       for (Eigen::Index k = 0; k < dirs.rows(); ++k) {
         const Eigen::Vector3d c = p + step * r * dirs.row(k).transpose();
-        if (step * r < best && surface.signed_distance(c) < -deep) {
+        if (step * r < best && inside(c, deep)) {
           best = step * r;
           chosen = c;
         }

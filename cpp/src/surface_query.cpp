@@ -369,6 +369,8 @@ int SurfaceQuery::face_count() const { return static_cast<int>(impl_->mesh.F.row
 
 bool SurfaceQuery::inside(const Eigen::Vector3d& p) const { return signed_distance(p) < 0; }
 
+bool SurfaceQuery::inside_by_parity(const Eigen::Vector3d& p) const { return impl_->ray_inside(p); }
+
 double SurfaceQuery::ray_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                              int* face) const {
   const double len = direction.norm();

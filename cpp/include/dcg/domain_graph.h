@@ -10,7 +10,11 @@
 //      face; when two points claim one face, an end point wins, else the nearer point);
 //   2. regions grow over shared edges: a face joins the region of a neighbour's point when that
 //      point is the nearest point that sees the face (Embree occlusion from the point to the
-//      face's centroid; the `visibility_candidates` nearest points are tried);
+//      face's centroid; the `visibility_candidates` nearest points are tried). "Nearest" is by
+//      distance to the point's BALL (|c - p| - r_p), not to its center: the big ball in the
+//      middle of a star owns the surface it touches between the arms, where the small balls at
+//      the arms' bases are nearer by center distance and would take it, leaving the center a
+//      leaf that is pruned (the arms then joined each other around it: 2-3 joints for 5 arms);
 //   3. faces still without a label take the label of the nearest labelled face (Dijkstra over
 //      shared edges by centroid distance: nearest first).
 // Links: two points are linked when their regions share an edge. Cost = mean |F| over
@@ -33,6 +37,13 @@
 //     junction (degree >= 3) is that short is a bump on the junction and merges into it, and so
 //     is an end point that lies inside the tube of another link of its junction (closer to that
 //     segment than the smaller radius of its two nodes): the digit eight's prongs on its loops;
+//   - two junctions (degree >= 3) whose balls overlap along the chain (over degree-2 points)
+//     between them (the chain is shorter than the sum of their radii) are one junction: the
+//     chain and the smaller junction merge into the larger one (never across a cycle); a merged
+//     junction is the union of its balls for the next test. Which of two nearby junctions a limb
+//     hangs from changes under small perturbations; their union does not;
+//   - a shape that shrinks to a single point (a sphere) gets a spine: two more points on its
+//     principal axis, half way from that point to the surface on either side (they own no face);
 //   - kinds by degree: 1 end, >= 3 joint, else connection (an end point on a cycle becomes a
 //     connection point, as the digit eight's).
 #pragma once
@@ -53,11 +64,12 @@ struct DomainGraphOptions {
   int visibility_candidates = 16;  ///< nearest points tried per face for its visible owner
   bool prune = true;               ///< prune non-end leaves (off: the raw tree + cycles)
   bool contract = true;            ///< contract links shorter than their larger radius
+  bool merge_joints = true;        ///< merge joints whose balls overlap along their chain
 };
 
 struct DomainGraph {
   // --- the points (#P): connection points, then end points ---------------------------------
-  Points points;                  ///< #P by 3
+  Points points;                  ///< #P by 3 (plus the two spine points of a sphere, if any)
   Eigen::VectorXd radii;          ///< #P distance to the surface
   Eigen::VectorXi prong;          ///< #P prong index of an end point, -1 for connection points
   // --- domain surfaces -------------------------------------------------------------------
@@ -85,6 +97,7 @@ struct DomainGraph {
   int pruned = 0;                 ///< points pruned as non-end leaves
   int contracted = 0;             ///< links contracted
   int ends_absorbed = 0;          ///< end points merged into a junction (bumps)
+  int joints_merged = 0;          ///< pairs of joints merged into one junction
 };
 
 /// mesh: the closed working mesh (V #V by 3, F #F by 3) that `field` was built on.

@@ -37,6 +37,9 @@ class SurfaceQuery {
   int face_count() const;
   /// True when p is strictly inside the closed surface (points on it count as outside).
   bool inside(const Eigen::Vector3d& p) const;
+  /// The same by ray parity alone (majority of 3 rays that graze no edge): slower, but it does
+  /// not depend on the faces' orientation (a mirrored input's winding is inside out).
+  bool inside_by_parity(const Eigen::Vector3d& p) const;
   /// Distance from `origin` along `direction` (any length) to the first surface hit, infinity
   /// when the ray hits nothing; `face` (if given) receives the face hit.
   double ray_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,

@@ -1,0 +1,148 @@
+// dcg/domain_graph.h (stage 6): face labels, links from shared edges, the spanning tree with its
+// handle cycles (visibility rule, genus cap), pruning of non-end leaves, contraction and kinds,
+// on hand-placed points in a torus, a capsule and a sphere.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <set>
+
+#include "dcg/domain_graph.h"
+#include "dcg/errors.h"
+#include "dcg/force_field.h"
+#include "dcg/surface_query.h"
+#include "shapes.h"
+
+namespace {
+
+using dcg::Mesh;
+namespace test = dcg::test;
+
+struct Scene {
+  Mesh mesh;
+  std::shared_ptr<const dcg::SurfaceQuery> query;
+  std::unique_ptr<dcg::ForceField> field;
+  explicit Scene(Mesh m) : mesh(std::move(m)) {
+    query = std::make_shared<const dcg::SurfaceQuery>(mesh);
+    field = std::make_unique<dcg::ForceField>(query);
+  }
+  Eigen::VectorXd radii(const dcg::Points& p) const {
+    Eigen::VectorXd r(p.rows());
+    for (Eigen::Index i = 0; i < p.rows(); ++i) r[i] = query->distance(p.row(i).transpose());
+    return r;
+  }
+};
+
+// `count` points on the core circle of a torus of ring radius 1.
+dcg::Points ring(int count) {
+  dcg::Points p(count, 3);
+  for (int i = 0; i < count; ++i) p.row(i) << std::cos(2 * M_PI * i / count), std::sin(2 * M_PI * i / count), 0;
+  return p;
+}
+
+void expect_labels_are_a_partition(const dcg::DomainGraph& g, int faces) {
+  ASSERT_EQ(g.face_labels.size(), faces);
+  EXPECT_EQ(g.faces_seeded + g.faces_grown + g.faces_filled, faces);
+  for (int f = 0; f < faces; ++f) {
+    EXPECT_GE(g.face_labels[f], 0) << f;
+    EXPECT_LT(g.face_labels[f], g.points.rows()) << f;
+    EXPECT_GE(g.face_nodes[f], 0) << f;
+  }
+}
+
+TEST(DomainGraph, TorusRingGivesOneCycleAndNoEnd) {
+  Scene s(test::torus(1.0, 0.35, 64, 24));
+  const dcg::Points p = ring(10);
+  const dcg::DomainGraph g =
+      dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p), Eigen::VectorXi::Constant(10, -1), 1);
+  expect_labels_are_a_partition(g, static_cast<int>(s.mesh.F.rows()));
+  EXPECT_EQ(g.candidates.rows(), 10) << "each ring point touches its two neighbours only";
+  for (Eigen::Index l = 0; l < g.costs.size(); ++l) EXPECT_TRUE(std::isfinite(g.costs[l]));
+  EXPECT_EQ(g.cycles, 1);
+  EXPECT_EQ(g.components, 1);
+  for (auto kind : g.kinds) EXPECT_EQ(kind, dcg::NodeKind::Connection);
+  EXPECT_EQ(g.links.rows(), static_cast<Eigen::Index>(g.nodes.size()));
+}
+
+TEST(DomainGraph, GenusCapsTheCycles) {
+  Scene s(test::torus(1.0, 0.35, 64, 24));
+  const dcg::Points p = ring(10);
+  const dcg::DomainGraph g =
+      dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p), Eigen::VectorXi::Constant(10, -1), 0);
+  EXPECT_EQ(g.cycles, 0);
+  // A tree without end points keeps its longest path: two ends, no joint.
+  int ends = 0;
+  for (auto kind : g.kinds) ends += kind == dcg::NodeKind::End;
+  EXPECT_EQ(ends, 2);
+  EXPECT_EQ(g.components, 1);
+}
+
+TEST(DomainGraph, CyclesWhosePointsSeeEachOtherAreNotHandles) {
+  // A fat sphere told it has genus 1: points on a small circle around its center see each other.
+  Scene s(test::icosphere(4, 1.0));
+  dcg::Points p(7, 3);
+  for (int i = 0; i < 6; ++i) p.row(i) << 0.5 * std::cos(M_PI * i / 3), 0.5 * std::sin(M_PI * i / 3), 0;
+  p.row(6) << 0, 0, 0.6;
+  Eigen::VectorXi prong = Eigen::VectorXi::Constant(7, -1);
+  prong[6] = 0;
+  dcg::DomainGraphOptions o;
+  o.prune = false;
+  o.contract = false;
+  o.merge_joints = false;
+  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p), prong, 1, o);
+  EXPECT_EQ(g.cycles, 0);
+  EXPECT_GT(g.cycles_rejected_visible, 0);
+  expect_labels_are_a_partition(g, static_cast<int>(s.mesh.F.rows()));
+}
+
+TEST(DomainGraph, CapsuleChainKeepsItsEndsAndPrunesTwigs) {
+  Scene s(test::capsule(0.5, 3.0));
+  // Axis points, two end points near the tips, and a twig point off the axis.
+  dcg::Points p(8, 3);
+  p << 0, 0, -1.0, 0, 0, -0.2, 0, 0, 0.6, 0, 0, 1.3, 0.3, 0, 0.2, 0, 0, 1.85, 0, 0, -1.85, 0, 0.3, -0.6;
+  Eigen::VectorXi prong = Eigen::VectorXi::Constant(8, -1);
+  prong[5] = 0;
+  prong[6] = 1;
+  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p), prong, 0);
+  expect_labels_are_a_partition(g, static_cast<int>(s.mesh.F.rows()));
+  EXPECT_EQ(g.cycles, 0);
+  EXPECT_EQ(g.components, 1);
+  int ends = 0, joints = 0;
+  for (std::size_t i = 0; i < g.nodes.size(); ++i) {
+    ends += g.kinds[i] == dcg::NodeKind::End;
+    joints += g.kinds[i] == dcg::NodeKind::Joint;
+    if (g.kinds[i] == dcg::NodeKind::End) {
+      EXPECT_GE(g.prong[g.nodes[i]], 0) << "an end that is no prong";
+    }
+  }
+  EXPECT_EQ(ends, 2);
+  EXPECT_EQ(joints, 0);
+  // The off-axis points were pruned or contracted into the chain; every point has a node.
+  for (Eigen::Index i = 0; i < p.rows(); ++i) EXPECT_GE(g.node_of_point[i], 0) << i;
+  EXPECT_GT(g.pruned + g.contracted, 0);
+}
+
+TEST(DomainGraph, BadInputIsRefused) {
+  Scene s(test::icosphere(2));
+  const dcg::Points none(0, 3);
+  EXPECT_THROW(dcg::compute_domain_graph(s.mesh, *s.field, none, Eigen::VectorXd(), Eigen::VectorXi(), 0),
+               dcg::InputError);
+  dcg::Points one(1, 3);
+  one << 0, 0, 0;
+  EXPECT_THROW(dcg::compute_domain_graph(s.mesh, *s.field, one, Eigen::VectorXd::Ones(2), Eigen::VectorXi::Zero(1), 0),
+               dcg::InputError);
+}
+
+TEST(DomainGraph, ASinglePointGetsASpine) {
+  Scene s(test::icosphere(3));
+  dcg::Points one(1, 3);
+  one << 0, 0, 0;
+  const dcg::DomainGraph g =
+      dcg::compute_domain_graph(s.mesh, *s.field, one, s.radii(one), Eigen::VectorXi::Constant(1, -1), 0);
+  EXPECT_EQ(g.nodes.size(), 3u);
+  EXPECT_EQ(g.links.rows(), 2);
+  for (int f = 0; f < s.mesh.F.rows(); ++f) EXPECT_EQ(g.face_labels[f], 0);
+  for (Eigen::Index i = 0; i < g.points.rows(); ++i) EXPECT_TRUE(s.query->inside(g.points.row(i).transpose()));
+}
+
+}  // namespace

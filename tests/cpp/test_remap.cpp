@@ -1,0 +1,93 @@
+// dcg/remap.h (stage 7): the snake pulls a straight link into the middle of a curved tube, moves
+// each point only in its plane normal to the link, keeps the ends, stays inside, and a link that
+// leaves the shape starts from a path through the waypoints.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "dcg/force_field.h"
+#include "dcg/remap.h"
+#include "dcg/surface_query.h"
+#include "shapes.h"
+
+namespace {
+
+namespace test = dcg::test;
+
+double off_core(const Eigen::Vector3d& p) { return std::hypot(std::hypot(p.x(), p.y()) - 1.0, p.z()); }
+
+struct TorusField {
+  dcg::Mesh mesh = test::torus(1.0, 0.3, 96, 48);
+  std::shared_ptr<const dcg::SurfaceQuery> query = std::make_shared<const dcg::SurfaceQuery>(mesh);
+  dcg::ForceField field{query};
+};
+
+TEST(Remap, SnakeFollowsTheMiddleOfACurvedTube) {
+  TorusField t;
+  const double a = 60 * M_PI / 180;
+  dcg::Points nodes(2, 3);
+  nodes << 1, 0, 0, std::cos(a), std::sin(a), 0;
+  const Eigen::VectorXd radii = Eigen::VectorXd::Constant(2, 0.3);
+  dcg::Edges links(1, 2);
+  links << 0, 1;
+  const dcg::Remapped r = dcg::remap_links(nodes, radii, links, t.field, dcg::Points(0, 3));
+  ASSERT_EQ(r.polylines.size(), 1u);
+  const dcg::Points& p = r.polylines[0];
+  ASSERT_GE(p.rows(), 5);
+  EXPECT_EQ(p.row(0), nodes.row(0));
+  EXPECT_EQ(p.row(p.rows() - 1), nodes.row(1));
+  EXPECT_EQ(r.rerouted[0], 0);
+  const Eigen::Vector3d chord = (nodes.row(1) - nodes.row(0)).transpose().normalized();
+  const double straight_mid = 1.0 - std::cos(a / 2);  // the chord's middle, off the core circle
+  for (Eigen::Index i = 1; i + 1 < p.rows(); ++i) {
+    const Eigen::Vector3d q = p.row(i).transpose();
+    EXPECT_TRUE(t.query->inside(q)) << i;
+    EXPECT_LT(off_core(q), 0.5 * straight_mid) << "point " << i << " stayed near the chord";
+    // In its plane: its coordinate along the chord is the one it started with (evenly spaced).
+    const double s = (q - nodes.row(0).transpose()).dot(chord);
+    EXPECT_NEAR(s, (nodes.row(1) - nodes.row(0)).norm() * i / (p.rows() - 1), 1e-9) << i;
+  }
+  EXPECT_GT(r.iterations[0], 0);
+  EXPECT_LE(r.iterations[0], 100);
+}
+
+TEST(Remap, ALinkThatLeavesTheShapeIsRouted) {
+  TorusField t;
+  // Two points on opposite sides of the ring: the chord crosses the hole.
+  dcg::Points nodes(2, 3);
+  nodes << 1, 0, 0, -1, 0, 0;
+  const Eigen::VectorXd radii = Eigen::VectorXd::Constant(2, 0.3);
+  dcg::Edges links(1, 2);
+  links << 0, 1;
+  dcg::Points ring(24, 3);
+  for (int i = 0; i < 24; ++i) ring.row(i) << std::cos(2 * M_PI * i / 24), std::sin(2 * M_PI * i / 24), 0;
+  const dcg::Remapped r = dcg::remap_links(nodes, radii, links, t.field, ring);
+  EXPECT_EQ(r.rerouted[0], 1);
+  EXPECT_EQ(r.unrouted, 0);
+  const dcg::Points& p = r.polylines[0];
+  for (Eigen::Index i = 0; i < p.rows(); ++i) {
+    EXPECT_TRUE(t.query->inside(p.row(i).transpose())) << i;
+    EXPECT_LT(off_core(p.row(i).transpose()), 0.25) << i;
+  }
+}
+
+TEST(Remap, NoIterationsKeepsTheStraightLink) {
+  TorusField t;
+  dcg::Points nodes(2, 3);
+  nodes << 1, 0, 0, std::cos(0.5), std::sin(0.5), 0;
+  dcg::Edges links(1, 2);
+  links << 0, 1;
+  dcg::RemapOptions o;
+  o.snake_iterations = 0;
+  const dcg::Remapped r = dcg::remap_links(nodes, Eigen::VectorXd::Constant(2, 0.3), links, t.field,
+                                           dcg::Points(0, 3), o);
+  const dcg::Points& p = r.polylines[0];
+  EXPECT_EQ(p.rows(), 5);  // at least 3 inner points
+  for (Eigen::Index i = 0; i < p.rows(); ++i) {
+    const Eigen::RowVector3d expected = nodes.row(0) + (nodes.row(1) - nodes.row(0)) * (double(i) / (p.rows() - 1));
+    EXPECT_TRUE(p.row(i).isApprox(expected, 1e-12)) << i;
+  }
+}
+
+}  // namespace
