@@ -202,6 +202,88 @@ class PyExtractor {
     d["source"] = Eigen::VectorXi(ep.ball).cast<std::int64_t>().eval();
     return d;
   }
+  /// Stage 4 at `points` (#P x 3, normalized units), or at the domain points when None.
+  py::dict force_field(py::object points) {
+    dcg::FieldSamples f;
+    if (points.is_none()) {
+      f = run([](dcg::Extractor& e) -> const dcg::FieldSamples& { return e.domain_field(); });
+    } else {
+      const dcg::Points P = points.cast<dcg::Points>();
+      f = run([&P](dcg::Extractor& e) { return e.force_field().evaluate(P); });
+    }
+    py::dict d;
+    d["force"] = f.force;
+    d["magnitude"] = f.magnitude;
+    d["r_min"] = f.r_min;
+    d["outside_rays"] = Eigen::VectorXi(f.outside_rays).cast<std::int64_t>().eval();
+    return d;
+  }
+  py::dict connection_points() {
+    const dcg::ConnectionPoints& c =
+        run([](dcg::Extractor& e) -> const dcg::ConnectionPoints& { return e.connection_points(); });
+    py::dict d;
+    d["shrunk"] = c.shrunk;
+    d["shrunk_magnitude"] = c.shrunk_magnitude;
+    d["shrunk_radii"] = c.shrunk_radii;
+    d["steps"] = Eigen::VectorXi(c.steps).cast<std::int64_t>().eval();
+    Eigen::Matrix<bool, Eigen::Dynamic, 1> converged(static_cast<Eigen::Index>(c.converged.size()));
+    for (std::size_t i = 0; i < c.converged.size(); ++i) converged[static_cast<Eigen::Index>(i)] = c.converged[i] != 0;
+    d["converged"] = converged;
+    d["cluster"] = Eigen::VectorXi(c.cluster).cast<std::int64_t>().eval();
+    d["positions"] = c.positions;
+    d["radii"] = c.radii;
+    d["magnitude"] = c.magnitude;
+    d["source"] = Eigen::VectorXi(c.source).cast<std::int64_t>().eval();
+    return d;
+  }
+  py::dict domain_graph() {
+    const dcg::DomainGraph& g =
+        run([](dcg::Extractor& e) -> const dcg::DomainGraph& { return e.domain_graph(); });
+    auto i64 = [](const Eigen::VectorXi& v) { return Eigen::VectorXi(v).cast<std::int64_t>().eval(); };
+    py::dict d;
+    d["points"] = g.points;
+    d["radii"] = g.radii;
+    d["prong"] = i64(g.prong);
+    d["face_labels"] = i64(g.face_labels);
+    d["primitive_face"] = i64(g.primitive_face);
+    d["visible_owner"] = i64(g.visible_owner);
+    d["faces_seeded"] = g.faces_seeded;
+    d["faces_grown"] = g.faces_grown;
+    d["faces_filled"] = g.faces_filled;
+    d["candidates"] = dcg::Edges(g.candidates).cast<std::int64_t>().eval();
+    d["costs"] = g.costs;
+    d["candidate_state"] = i64(g.candidate_state);
+    d["cycles_rejected_visible"] = g.cycles_rejected_visible;
+    d["cycles_rejected_duplicate"] = g.cycles_rejected_duplicate;
+    Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> nodes(static_cast<Eigen::Index>(g.nodes.size()));
+    for (std::size_t i = 0; i < g.nodes.size(); ++i) nodes[static_cast<Eigen::Index>(i)] = g.nodes[i];
+    d["nodes"] = nodes;
+    d["links"] = dcg::Edges(g.links).cast<std::int64_t>().eval();
+    py::list kinds;
+    for (auto kind : g.kinds) kinds.append(dcg::node_kind_name(kind));
+    d["kinds"] = kinds;
+    d["node_of_point"] = i64(g.node_of_point);
+    d["face_nodes"] = i64(g.face_nodes);
+    d["cycles"] = g.cycles;
+    d["components"] = g.components;
+    d["pruned"] = g.pruned;
+    d["contracted"] = g.contracted;
+    d["ends_absorbed"] = g.ends_absorbed;
+    d["joints_merged"] = g.joints_merged;
+    return d;
+  }
+  py::dict remap() {
+    const dcg::Remapped& r = run([](dcg::Extractor& e) -> const dcg::Remapped& { return e.remap(); });
+    py::dict d;
+    py::list polylines;
+    for (const auto& p : r.polylines) polylines.append(p);
+    d["polylines"] = polylines;
+    d["iterations"] = Eigen::VectorXi(r.iterations).cast<std::int64_t>().eval();
+    d["rerouted"] = Eigen::VectorXi(r.rerouted).cast<std::int64_t>().eval();
+    d["moves_refused"] = r.moves_refused;
+    d["unrouted"] = r.unrouted;
+    return d;
+  }
   py::list timings() const {
     py::list out;
     for (const auto& t : extractor_.timings()) out.append(py::make_tuple(t.first, t.second));
@@ -238,6 +320,10 @@ void bind_pipeline(py::module_& m) {
       .def("domain_balls", &PyExtractor::domain_balls)
       .def("prongs", &PyExtractor::prongs, py::arg("tau") = py::none())
       .def("end_points", &PyExtractor::end_points)
+      .def("force_field", &PyExtractor::force_field, py::arg("points") = py::none())
+      .def("connection_points", &PyExtractor::connection_points)
+      .def("domain_graph", &PyExtractor::domain_graph)
+      .def("remap", &PyExtractor::remap)
       .def("skeleton", &PyExtractor::skeleton)
       .def_property_readonly("timings", &PyExtractor::timings)
       .def_property_readonly("options", &PyExtractor::options);

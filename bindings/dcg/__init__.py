@@ -14,6 +14,10 @@ Stage by stage (each result kept, as in the paper's Fig. 4):
     prongs = ex.prongs()          # stage 3: prong peaks and their significance
     fewer = ex.prongs(tau=0.7)    # re-thresholded, no new geodesics
     ends = ex.end_points()        # a stage-1 ball per prong that sees its peak
+    field = ex.force_field()      # stage 4: F and |F| at the domain points (or at any points)
+    points = ex.connection_points()  # stage 5: shrunk along the field, merged
+    graph = ex.domain_graph()     # stage 6: face labels, links, spanning tree + handle cycles
+    remapped = ex.remap()         # stage 7: snake-fitted link polylines
     skeleton = ex.skeleton()
     print(ex.timings)             # [(stage, seconds), ...]
 
@@ -37,6 +41,7 @@ __all__ = [
     "Cancelled", "Extractor", "OPTIONS", "OptionInfo", "Skeleton", "FORMAT", "Balls",
     "PreparedMesh", "Prongs", "extract_skeleton", "load_mesh", "as_mesh",
     "SkinWeights", "skin_weights",
+    "Field", "ConnectionPoints", "DomainGraph", "Remapped",
 ]
 __version__ = "0.1.0"
 
@@ -142,6 +147,74 @@ class Prongs:
             peaks=peaks)
 
 
+@dataclass
+class Field:
+    """Stage 4 at some points (normalized units): force #P x 3, magnitude #P (|F|), r_min #P
+    (shortest ray distance), outside_rays #P (rays that did not leave through the back of a face:
+    0 inside)."""
+
+    force: np.ndarray
+    magnitude: np.ndarray
+    r_min: np.ndarray
+    outside_rays: np.ndarray
+
+
+@dataclass
+class ConnectionPoints:
+    """Stage 5 (normalized units). Per domain point (#D): shrunk positions, shrunk_magnitude,
+    shrunk_radii, steps, converged (bool), cluster (index of the connection point that absorbed
+    it). Per connection point (#C, by increasing |F|): positions, radii, magnitude, source."""
+
+    shrunk: np.ndarray
+    shrunk_magnitude: np.ndarray
+    shrunk_radii: np.ndarray
+    steps: np.ndarray
+    converged: np.ndarray
+    cluster: np.ndarray
+    positions: np.ndarray
+    radii: np.ndarray
+    magnitude: np.ndarray
+    source: np.ndarray
+
+
+@dataclass
+class DomainGraph:
+    """Stage 6 (normalized units, faces of PreparedMesh.faces). points #P x 3 (connection points
+    then end points), radii, prong (-1 for connection points); face_labels #F (point per face);
+    candidates #L x 2 and costs #L (mean |F|, inf when the segment leaves the shape);
+    candidate_state #L (0 unused, 1 tree, 2 kept cycle); nodes #N (point of each node), links
+    #K x 2 (node pairs), kinds #N, node_of_point #P, face_nodes #F; cycles, components and the
+    counts of each rule in `stats`."""
+
+    points: np.ndarray
+    radii: np.ndarray
+    prong: np.ndarray
+    face_labels: np.ndarray
+    candidates: np.ndarray
+    costs: np.ndarray
+    candidate_state: np.ndarray
+    nodes: np.ndarray
+    links: np.ndarray
+    kinds: np.ndarray
+    node_of_point: np.ndarray
+    face_nodes: np.ndarray
+    cycles: int
+    components: int
+    stats: Dict[str, int]
+
+
+@dataclass
+class Remapped:
+    """Stage 7 (normalized units): one polyline per DomainGraph link (node a .. node b),
+    snake iterations and rerouted (1: the straight link left the shape) per link."""
+
+    polylines: list
+    iterations: np.ndarray
+    rerouted: np.ndarray
+    moves_refused: int
+    unrouted: int
+
+
 class Extractor:
     """Runs the pipeline one stage at a time and keeps every result (paper Fig. 4).
 
@@ -190,6 +263,49 @@ class Extractor:
         d = self._core.end_points()
         return Balls(np.asarray(d["centers"]).reshape(-1, 3), np.asarray(d["radii"]),
                      np.asarray(d["source"], dtype=np.int64))
+
+    def force_field(self, points=None) -> Field:
+        """Stage 4: F at `points` (#P x 3, normalized units), or at the domain points."""
+        if points is not None:
+            points = np.ascontiguousarray(points, dtype=np.float64)
+            if points.ndim != 2 or points.shape[1] != 3:
+                raise ValueError(f"points must be an n x 3 array, got shape {points.shape}")
+        d = self._core.force_field(points)
+        return Field(np.asarray(d["force"]).reshape(-1, 3), np.asarray(d["magnitude"]),
+                     np.asarray(d["r_min"]), np.asarray(d["outside_rays"], dtype=np.int64))
+
+    def connection_points(self) -> ConnectionPoints:
+        """Stage 5: the domain points shrunk along the field and merged greedily."""
+        d = self._core.connection_points()
+        return ConnectionPoints(
+            shrunk=np.asarray(d["shrunk"]).reshape(-1, 3),
+            shrunk_magnitude=np.asarray(d["shrunk_magnitude"]),
+            shrunk_radii=np.asarray(d["shrunk_radii"]), steps=np.asarray(d["steps"]),
+            converged=np.asarray(d["converged"], dtype=bool), cluster=np.asarray(d["cluster"]),
+            positions=np.asarray(d["positions"]).reshape(-1, 3), radii=np.asarray(d["radii"]),
+            magnitude=np.asarray(d["magnitude"]), source=np.asarray(d["source"]))
+
+    def domain_graph(self) -> DomainGraph:
+        """Stage 6: domain surfaces (face labels), links and the kept graph."""
+        d = dict(self._core.domain_graph())
+        arrays = {key: np.asarray(d.pop(key)) for key in (
+            "points", "radii", "prong", "face_labels", "candidates", "costs", "candidate_state",
+            "nodes", "links", "node_of_point", "face_nodes")}
+        arrays["points"] = arrays["points"].reshape(-1, 3)
+        arrays["candidates"] = arrays["candidates"].reshape(-1, 2)
+        arrays["links"] = arrays["links"].reshape(-1, 2)
+        kinds = np.asarray(d.pop("kinds"), dtype=str)
+        cycles, components = int(d.pop("cycles")), int(d.pop("components"))
+        stats = {key: int(value) for key, value in d.items() if np.ndim(value) == 0}
+        return DomainGraph(kinds=kinds, cycles=cycles, components=components, stats=stats,
+                           **arrays)
+
+    def remap(self) -> Remapped:
+        """Stage 7: the snake-fitted polyline of every DomainGraph link."""
+        d = self._core.remap()
+        return Remapped([np.asarray(p).reshape(-1, 3) for p in d["polylines"]],
+                        np.asarray(d["iterations"]), np.asarray(d["rerouted"]),
+                        int(d["moves_refused"]), int(d["unrouted"]))
 
     @property
     def timings(self):

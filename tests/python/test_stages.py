@@ -129,3 +129,49 @@ def test_timings_and_skeleton_ends_carry_prong_significance(spot_extractor):
     marked = np.sort(skeleton.significance[ends][skeleton.significance[ends] < 1])
     np.testing.assert_allclose(marked, np.sort(prongs.significance)[:len(marked)])
     assert (skeleton.significance[~ends] == 0).all()
+
+
+@pytest.fixture(scope="module")
+def torus_extractor(repo):
+    return dcg.Extractor(*dcg.load_mesh(repo / "data" / "meshes" / "torus.off"), **FAST)
+
+
+def test_force_field_at_domain_points_and_at_any_points(torus_extractor):
+    ex = torus_extractor
+    field = ex.force_field()
+    balls = ex.domain_balls()
+    assert field.force.shape == (len(balls.radii), 3)
+    assert (field.outside_rays == 0).all() and (field.r_min > 0).all()
+    np.testing.assert_allclose(np.linalg.norm(field.force, axis=1), field.magnitude)
+    at = ex.force_field(balls.centers[:3])
+    np.testing.assert_allclose(at.magnitude, field.magnitude[:3])
+    outside = ex.force_field(np.zeros((1, 3)))  # the torus's hole
+    assert outside.outside_rays[0] > 0
+    with pytest.raises(ValueError, match="n x 3"):
+        ex.force_field(np.zeros((2, 2)))
+
+
+def test_stages_4_to_8_on_a_torus(torus_extractor):
+    ex = torus_extractor
+    points = ex.connection_points()
+    assert points.converged.all()
+    assert len(points.positions) <= len(points.shrunk)
+    assert (points.cluster >= 0).all() and points.cluster.max() == len(points.positions) - 1
+    graph = ex.domain_graph()
+    working = ex.prepare()
+    assert graph.face_labels.shape == (len(working.faces),) and (graph.face_labels >= 0).all()
+    assert graph.cycles == 1 and graph.components == 1
+    assert set(graph.kinds) == {"connection"}
+    assert graph.stats["faces_seeded"] + graph.stats["faces_grown"] + graph.stats[
+        "faces_filled"] == len(working.faces)
+    remapped = ex.remap()
+    assert len(remapped.polylines) == len(graph.links)
+    for (a, b), polyline in zip(graph.links, remapped.polylines):
+        assert len(polyline) >= 5
+        np.testing.assert_allclose(polyline[0], graph.points[graph.nodes[a]])
+        np.testing.assert_allclose(polyline[-1], graph.points[graph.nodes[b]])
+    skeleton = ex.skeleton()
+    assert skeleton.method == "dcg"
+    assert (skeleton.kinds == "connection").all() and len(skeleton.links) == skeleton.node_count
+    assert (skeleton.face_labels >= 0).all()
+    assert skeleton.face_labels.max() < skeleton.node_count
