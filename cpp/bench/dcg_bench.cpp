@@ -28,6 +28,7 @@
 
 #include "dcg/io.h"
 #include "dcg/pipeline.h"
+#include "dcg/surface_query.h"
 #include "mcf_baseline.h"
 
 #ifndef DCG_BENCH_BUILD_TYPE
@@ -188,6 +189,45 @@ std::vector<fs::path> collect_meshes(const std::vector<std::string>& paths) {
   return out;
 }
 
+// --- skeleton quality ---------------------------------------------------------------------------
+
+struct Quality {
+  int ends = 0, joints = 0, connections = 0, cycles = 0, components = 0, unlabelled_faces = 0;
+  double inside_percent = 100;
+};
+
+Quality quality(const dcg::Mesh& mesh, const dcg::Skeleton& s) {
+  Quality q;
+  const int n = static_cast<int>(s.positions.rows());
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (Eigen::Index l = 0; l < s.links.rows(); ++l) parent[find(s.links(l, 0))] = find(s.links(l, 1));
+  for (int i = 0; i < n; ++i) {
+    q.components += find(i) == i;
+    q.ends += s.kinds[i] == dcg::NodeKind::End;
+    q.joints += s.kinds[i] == dcg::NodeKind::Joint;
+    q.connections += s.kinds[i] == dcg::NodeKind::Connection;
+  }
+  q.cycles = static_cast<int>(s.links.rows()) - n + q.components;
+  for (Eigen::Index f = 0; f < s.face_labels.size(); ++f) q.unlabelled_faces += s.face_labels[f] < 0;
+  try {
+    const dcg::SurfaceQuery surface(mesh);
+    int inside = 0, total = 0;
+    for (int i = 0; i < n; ++i, ++total) inside += surface.inside_by_parity(s.positions.row(i).transpose());
+    for (const auto& p : s.polylines) {
+      for (Eigen::Index i = 1; i + 1 < p.rows(); ++i, ++total) inside += surface.inside_by_parity(p.row(i).transpose());
+    }
+    q.inside_percent = total ? 100.0 * inside / total : 100.0;
+  } catch (const std::exception&) {
+    q.inside_percent = NAN;
+  }
+  return q;
+}
+
 // --- one mesh -----------------------------------------------------------------------------------
 
 std::string bench_mesh(const fs::path& path, const Args& args) {
@@ -241,6 +281,16 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
             .integer("genus", pm.genus)
             .integer("nodes", skeleton.positions.rows())
             .integer("links", skeleton.links.rows());
+        // Quality of the skeleton (outside the timing): kinds, cycles, components, the share
+        // of nodes and polyline points inside the input (ray parity), unlabelled input faces.
+        const Quality q = quality(mesh, skeleton);
+        info.integer("ends", q.ends)
+            .integer("joints", q.joints)
+            .integer("connections", q.connections)
+            .integer("cycles", q.cycles)
+            .integer("components", q.components)
+            .num("inside_percent", q.inside_percent)
+            .integer("unlabelled_faces", q.unlabelled_faces);
       }
     }
     JsonObject stages;

@@ -174,8 +174,9 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
       const Eigen::RowVector3d c = centroid.row(f);
       for (int p = 0; p < P; ++p) d[p] = {(points.row(p) - c).norm() - radii[p], p};
       std::partial_sort(d.begin(), d.begin() + candidates, d.end());
-      for (int start = 0; start < candidates && g.visible_owner[f] < 0; start += 8) {
-        const int n = std::min(8, candidates - start);
+      // The nearest candidate alone first (it usually sees the face), then packets of 8.
+      for (int start = 0; start < candidates && g.visible_owner[f] < 0; start += start == 0 ? 1 : 8) {
+        const int n = std::min(start == 0 ? 1 : 8, candidates - start);
         for (int k = 0; k < n; ++k) {
           for (int j = 0; j < 3; ++j) {
             a[3 * k + j] = points(d[start + k].second, j);

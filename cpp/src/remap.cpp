@@ -95,8 +95,9 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
   const SurfaceQuery& query = field.query();
   LinkResult out;
   const double chord = (b - a).norm();
-  const double mean_radius = std::max(0.5 * (ra + rb), 1e-9);
-  const int inner = std::clamp(static_cast<int>(std::ceil(chord / (o.spacing * mean_radius))) - 1,
+  // Spacing by the larger radius: a link into a needle tip (radius ~0) would get dozens of points.
+  const double mean_radius = std::max(0.5 * (ra + rb), 1e-9), big_radius = std::max({ra, rb, 1e-9});
+  const int inner = std::clamp(static_cast<int>(std::ceil(chord / (o.spacing * big_radius))) - 1,
                                o.min_inner_points, std::max(o.min_inner_points, o.max_inner_points));
   const int count = inner + 2;
   // The start: the straight link, or a path through the waypoints when it leaves the shape.
@@ -191,7 +192,7 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
         continue;
       }
       p.row(i) = to.transpose();
-      worst = std::max(worst, delta.norm() / r[i]);
+      worst = std::max(worst, delta.norm() / std::max(r[i], 0.5 * mean_radius));
     }
     out.iterations = it + 1;
     if (worst < o.tolerance) break;

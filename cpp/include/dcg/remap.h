@@ -1,8 +1,8 @@
 // Stage 7 (ALGORITHM.md "Re-mapping", paper section 8): every link of the graph becomes a
 // polyline that follows the middle of the shape, fitted by a snake in the force field.
 //
-// A link a-b is sampled about every `spacing` x the local radius (the radii of a and b
-// interpolated), with at least `min_inner_points` and at most `max_inner_points` inner points.
+// A link a-b is sampled about every `spacing` x the larger radius of a and b, with at least
+// `min_inner_points` and at most `max_inner_points` inner points.
 // When the straight segment leaves the shape, the start is a path through `waypoints` (points
 // known to be inside, e.g. the shrunk domain points) that see each other, shortest first.
 //
@@ -13,7 +13,7 @@
 // r^(n+2) (r the local radius, n the field's exponent) so that it is a length. The gradient is
 // the sampled field's own (ForceField::at_with_gradient, one fan of rays per point and step):
 // four times cheaper than the central differences of ALGORITHM.md, which it matches (tested). At most `snake_iterations` steps; a link stops when no point moves more than
-// `tolerance` x its radius. A move whose segment meets the surface is refused (the point stays).
+// `tolerance` x its radius (at least half the link's mean radius). A move whose segment meets the surface is refused (the point stays).
 #pragma once
 
 #include <vector>
