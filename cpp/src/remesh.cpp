@@ -9,6 +9,7 @@
 // face normal: about 3x faster than the Lindstrom-Turk default (0.5 s instead of 1.3 s on the
 // horse) and, as it evens out edge lengths, a better start for the isotropic remeshing, which
 // then makes the triangles uniform in 3 iterations.
+#include <algorithm>
 #include "remesh.h"
 
 #include <cmath>
@@ -46,8 +47,16 @@ Mesh remesh_uniform(const Mesh& mesh, int target_faces) {
                        " does not fit a manifold surface");
     }
   }
+  // CGAL's isotropic remeshing segfaults when its target edge is long compared with the shape
+  // (a tetrahedron at target_faces 64 collapses into something it cannot handle; found by
+  // fuzzing). So the working mesh keeps at least kMinFaces triangles and edges of at most 1/20
+  // of the bounding-box diagonal, whatever target_faces asks.
+  constexpr int kMinFaces = 200;
+  target_faces = std::max(target_faces, kMinFaces);
+  const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
   const double area = PMP::area(sm);
-  const double L = std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces));
+  const double L = std::min(std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces)),
+                            diagonal / 20.0);
   if (static_cast<double>(sm.number_of_faces()) > 2.0 * target_faces) {
     SMS::Count_stop_predicate<SM> stop(static_cast<std::size_t>(1.5 * target_faces));
     SMS::edge_collapse(sm, stop,

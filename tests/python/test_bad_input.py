@@ -396,3 +396,13 @@ def test_malformed_files_are_clear_errors(tmp_path, name, text):
             dcg.extract_skeleton(V, F, **FAST)
         except ValueError as error:
             assert str(error)
+
+
+@pytest.mark.parametrize("target_faces", [1, 64, 100, 200])
+def test_a_tetrahedron_with_a_tiny_target_face_count_does_not_crash_remeshing(target_faces):
+    # CGAL's isotropic remeshing segfaulted here (found by fuzzing): stage 0 now keeps at least
+    # 200 working faces and edges of at most 1/20 of the diagonal.
+    V = np.array([[0.0, 0, 0], [1, 0, 0], [-1.7, 1, 0], [0, 0, 1]])
+    F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    prepared = dcg.Extractor(V, F, target_faces=target_faces).prepare()
+    assert len(prepared.faces) >= 200
