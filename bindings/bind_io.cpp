@@ -23,6 +23,15 @@ dcg::Faces to_faces(const Faces64& F, Eigen::Index vertex_count) {
 
 Faces64 to_faces64(const dcg::Faces& F) { return F.cast<std::int64_t>(); }
 
+double option_number(const std::string& name, const py::handle& value) {
+  try {
+    return value.cast<double>();
+  } catch (const py::cast_error&) {
+    throw dcg::InputError("option " + name + " must be a number, got " +
+                          std::string(py::str(py::repr(value))));
+  }
+}
+
 dcg::ProgressCallback ProgressBridge::callback() {
   if (callable_.is_none()) return {};
   return [this](const std::string& stage, double fraction) {

@@ -14,13 +14,7 @@ dcg::Options options_from_dict(const py::dict& values) {
     if (name == "repair") {
       options.repair = dcg::parse_repair(py::str(item.second));
     } else {
-      double value = 0;
-      try {
-        value = item.second.cast<double>();
-      } catch (const py::cast_error&) {
-        throw dcg::InputError("option " + name + " must be a number, got " +
-                              std::string(py::str(py::repr(item.second))));
-      }
+      const double value = option_number(name, item.second);
       dcg::set_numeric_option(options, name, value);
     }
   }
@@ -73,7 +67,7 @@ py::dict prepared_dict(const dcg::PreparedMesh& pm) {
   d["remeshed"] = pm.remeshed;
   d["wrap_alpha"] = pm.wrap_alpha;
   d["genus"] = pm.genus;
-  d["map_face"] = Eigen::VectorXi(pm.map_face).cast<std::int64_t>().eval();
+  d["map_face"] = to_int64(pm.map_face);
   d["map_barycentric"] = pm.map_barycentric;
   py::dict report;
   report["input_vertices"] = pm.report.input_vertices;
@@ -99,15 +93,13 @@ py::dict skeleton_dict(const dcg::Skeleton& s) {
   d["kinds"] = kinds;
   d["radii"] = s.radii;
   d["significance"] = s.significance;
-  d["links"] = dcg::Edges(s.links).cast<std::int64_t>().eval();
+  d["links"] = to_int64(s.links);
   py::list polylines;
   for (const auto& p : s.polylines) polylines.append(p);
   d["polylines"] = polylines;
   d["root"] = s.root;
-  d["face_labels"] = Eigen::VectorXi(s.face_labels).cast<std::int64_t>().eval();
-  py::list timings;
-  for (const auto& t : s.timings) timings.append(py::make_tuple(t.first, t.second));
-  d["timings"] = timings;
+  d["face_labels"] = to_int64(s.face_labels);
+  d["timings"] = py::cast(s.timings);
   d["input_vertices"] = s.input_vertices;
   d["input_faces"] = s.input_faces;
   d["genus"] = s.genus;
@@ -119,7 +111,7 @@ py::dict skeleton_dict(const dcg::Skeleton& s) {
 py::dict prongs_dict(const dcg::Prongs& p) {
   py::dict d;
   d["tau"] = p.tau;
-  d["vertices"] = Eigen::VectorXi(p.vertices).cast<std::int64_t>().eval();
+  d["vertices"] = to_int64(p.vertices);
   d["positions"] = p.positions;
   d["significance"] = p.significance;
   return d;
@@ -128,7 +120,7 @@ py::dict prongs_dict(const dcg::Prongs& p) {
 py::dict prong_features_dict(const dcg::ProngFeatures& pf) {
   py::dict d = prongs_dict(pf.prongs);
   d["scale_function"] = pf.scale.values;
-  d["sources"] = Eigen::VectorXi(pf.scale.sources).cast<std::int64_t>().eval();
+  d["sources"] = to_int64(pf.scale.sources);
   d["source_weights"] = pf.scale.weights;
   const auto& peaks = pf.hierarchy.peaks();
   const auto n = static_cast<Eigen::Index>(peaks.size());
@@ -199,7 +191,7 @@ class PyExtractor {
     py::dict d;
     d["centers"] = ep.centers;
     d["radii"] = ep.radii;
-    d["source"] = Eigen::VectorXi(ep.ball).cast<std::int64_t>().eval();
+    d["source"] = to_int64(ep.ball);
     return d;
   }
   /// Stage 4 at `points` (#P x 3, normalized units), or at the domain points when None.
@@ -215,7 +207,7 @@ class PyExtractor {
     d["force"] = f.force;
     d["magnitude"] = f.magnitude;
     d["r_min"] = f.r_min;
-    d["outside_rays"] = Eigen::VectorXi(f.outside_rays).cast<std::int64_t>().eval();
+    d["outside_rays"] = to_int64(f.outside_rays);
     return d;
   }
   py::dict connection_points() {
@@ -225,45 +217,44 @@ class PyExtractor {
     d["shrunk"] = c.shrunk;
     d["shrunk_magnitude"] = c.shrunk_magnitude;
     d["shrunk_radii"] = c.shrunk_radii;
-    d["steps"] = Eigen::VectorXi(c.steps).cast<std::int64_t>().eval();
+    d["steps"] = to_int64(c.steps);
     Eigen::Matrix<bool, Eigen::Dynamic, 1> converged(static_cast<Eigen::Index>(c.converged.size()));
     for (std::size_t i = 0; i < c.converged.size(); ++i) converged[static_cast<Eigen::Index>(i)] = c.converged[i] != 0;
     d["converged"] = converged;
-    d["cluster"] = Eigen::VectorXi(c.cluster).cast<std::int64_t>().eval();
+    d["cluster"] = to_int64(c.cluster);
     d["positions"] = c.positions;
     d["radii"] = c.radii;
     d["magnitude"] = c.magnitude;
-    d["source"] = Eigen::VectorXi(c.source).cast<std::int64_t>().eval();
+    d["source"] = to_int64(c.source);
     return d;
   }
   py::dict domain_graph() {
     const dcg::DomainGraph& g =
         run([](dcg::Extractor& e) -> const dcg::DomainGraph& { return e.domain_graph(); });
-    auto i64 = [](const Eigen::VectorXi& v) { return Eigen::VectorXi(v).cast<std::int64_t>().eval(); };
     py::dict d;
     d["points"] = g.points;
     d["radii"] = g.radii;
-    d["prong"] = i64(g.prong);
-    d["face_labels"] = i64(g.face_labels);
-    d["primitive_face"] = i64(g.primitive_face);
-    d["visible_owner"] = i64(g.visible_owner);
+    d["prong"] = to_int64(g.prong);
+    d["face_labels"] = to_int64(g.face_labels);
+    d["primitive_face"] = to_int64(g.primitive_face);
+    d["visible_owner"] = to_int64(g.visible_owner);
     d["faces_seeded"] = g.faces_seeded;
     d["faces_grown"] = g.faces_grown;
     d["faces_filled"] = g.faces_filled;
-    d["candidates"] = dcg::Edges(g.candidates).cast<std::int64_t>().eval();
+    d["candidates"] = to_int64(g.candidates);
     d["costs"] = g.costs;
-    d["candidate_state"] = i64(g.candidate_state);
+    d["candidate_state"] = to_int64(g.candidate_state);
     d["cycles_rejected_visible"] = g.cycles_rejected_visible;
     d["cycles_rejected_duplicate"] = g.cycles_rejected_duplicate;
     Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> nodes(static_cast<Eigen::Index>(g.nodes.size()));
     for (std::size_t i = 0; i < g.nodes.size(); ++i) nodes[static_cast<Eigen::Index>(i)] = g.nodes[i];
     d["nodes"] = nodes;
-    d["links"] = dcg::Edges(g.links).cast<std::int64_t>().eval();
+    d["links"] = to_int64(g.links);
     py::list kinds;
     for (auto kind : g.kinds) kinds.append(dcg::node_kind_name(kind));
     d["kinds"] = kinds;
-    d["node_of_point"] = i64(g.node_of_point);
-    d["face_nodes"] = i64(g.face_nodes);
+    d["node_of_point"] = to_int64(g.node_of_point);
+    d["face_nodes"] = to_int64(g.face_nodes);
     d["cycles"] = g.cycles;
     d["components"] = g.components;
     d["pruned"] = g.pruned;
@@ -278,16 +269,14 @@ class PyExtractor {
     py::list polylines;
     for (const auto& p : r.polylines) polylines.append(p);
     d["polylines"] = polylines;
-    d["iterations"] = Eigen::VectorXi(r.iterations).cast<std::int64_t>().eval();
-    d["rerouted"] = Eigen::VectorXi(r.rerouted).cast<std::int64_t>().eval();
+    d["iterations"] = to_int64(r.iterations);
+    d["rerouted"] = to_int64(r.rerouted);
     d["moves_refused"] = r.moves_refused;
     d["unrouted"] = r.unrouted;
     return d;
   }
   py::list timings() const {
-    py::list out;
-    for (const auto& t : extractor_.timings()) out.append(py::make_tuple(t.first, t.second));
-    return out;
+    return py::list(py::cast(extractor_.timings()));
   }
   py::dict skeleton() {
     return skeleton_dict(run([](dcg::Extractor& e) -> const dcg::Skeleton& { return e.skeleton(); }));

@@ -21,13 +21,7 @@ dcg::WeightsOptions weights_options(const py::dict& values) {
       o.prepare.repair = dcg::parse_repair(py::str(item.second));
       continue;
     }
-    double value = 0;
-    try {
-      value = item.second.cast<double>();
-    } catch (const py::cast_error&) {
-      throw dcg::InputError("option " + name + " must be a number, got " +
-                            std::string(py::str(py::repr(item.second))));
-    }
+    const double value = option_number(name, item.second);
     if (name == "max_influences") {
       if (value != std::floor(value) || std::abs(value) > 1e9) {
         throw dcg::InputError("max_influences must be a whole number");
@@ -64,8 +58,8 @@ dcg::Bones make_bones(const dcg::Points& heads, const dcg::Points& tails) {
 
 py::dict weights_dict(const dcg::SkinWeights& w) {
   py::dict d;
-  d["rows"] = Eigen::VectorXi(w.rows).cast<std::int64_t>().eval();
-  d["cols"] = Eigen::VectorXi(w.cols).cast<std::int64_t>().eval();
+  d["rows"] = to_int64(w.rows);
+  d["cols"] = to_int64(w.cols);
   d["values"] = w.values;
   d["vertex_count"] = w.vertex_count;
   d["bone_count"] = w.bone_count;
@@ -73,9 +67,7 @@ py::dict weights_dict(const dcg::SkinWeights& w) {
   d["unseen_vertices"] = w.unseen_vertices;
   d["blind_components"] = w.blind_components;
   d["fallback_vertices"] = w.fallback_vertices;
-  py::list timings;
-  for (const auto& t : w.timings) timings.append(py::make_tuple(t.first, t.second));
-  d["timings"] = timings;
+  d["timings"] = py::cast(w.timings);
   return d;
 }
 

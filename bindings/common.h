@@ -27,6 +27,16 @@ using Edges64 = Eigen::Matrix<std::int64_t, Eigen::Dynamic, 2, Eigen::RowMajor>;
 dcg::Faces to_faces(const Faces64& F, Eigen::Index vertex_count);
 Faces64 to_faces64(const dcg::Faces& F);
 
+/// An engine index array (int) as numpy int64: the type every index array of the Python API has.
+template <typename Derived>
+auto to_int64(const Eigen::MatrixBase<Derived>& a) {
+  return a.template cast<std::int64_t>().eval();
+}
+
+/// A numeric option's value; InputError (ValueError) "option NAME must be a number, got ..."
+/// for anything Python cannot turn into a float.
+double option_number(const std::string& name, const py::handle& value);
+
 /// Wraps an optional Python callable(stage, fraction) -> bool|None as a ProgressCallback. The
 /// engine runs with the GIL released; the wrapper takes it back for each call. An exception in
 /// the callable cancels the run and is re-raised by rethrow_if_failed().

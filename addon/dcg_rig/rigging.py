@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import bpy
 
-from . import _engine, armature, bones, mesh_io, preview, weights
+from . import armature, bones, mesh_io, preview, weights
 
 
 class RigError(Exception):
@@ -61,13 +61,6 @@ def disable_foreign_armatures(mesh_obj, arm_obj):
             warnings.append(f"turned off the Armature modifier '{modifier.name}' ({owner}) "
                             "so the mesh is not deformed twice")
     return warnings
-
-
-def extract(context, obj, options, progress=None):
-    """Return the skeleton of `obj` computed by the engine with `options` (blocking)."""
-    engine = _engine.require()
-    V, F = object_mesh(context, obj)
-    return engine.extract_skeleton(V, F, progress=progress, **options)
 
 
 def reusable_prepared(mesh_obj, prepared):

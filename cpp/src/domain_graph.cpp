@@ -1,4 +1,5 @@
 // Stage 6: domain surfaces, links and the kept graph. See dcg/domain_graph.h.
+#include "union_find.h"
 #include "dcg/domain_graph.h"
 
 #include <algorithm>
@@ -25,21 +26,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  bool unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    parent[b] = a;
-    return true;
-  }
-};
+using internal::UnionFind;
 
 // Faces sharing an edge: adjacency[3f + k] is the face across edge (F(f,k), F(f,k+1)), -1 on a
 // border. Non-manifold edges chain their faces pairwise (the working mesh has none).

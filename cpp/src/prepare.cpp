@@ -27,6 +27,7 @@
 // - Remeshing: skipped when the mesh already has between 1/2.5 and 2.5 times target_faces and
 //   its edge lengths are uniform (coefficient of variation below 0.5): such a mesh is as good a
 //   geodesic domain as a remeshed one, and remeshing costs more than all of stages 1-3.
+#include "union_find.h"
 #include "dcg/prepare.h"
 
 #include <algorithm>
@@ -52,21 +53,7 @@
 namespace dcg {
 namespace {
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  bool unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    parent[b] = a;
-    return true;
-  }
-};
+using internal::UnionFind;
 
 inline std::uint64_t edge_key(int a, int b) {
   if (a > b) std::swap(a, b);

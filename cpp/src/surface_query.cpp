@@ -32,20 +32,10 @@
 #include <embree3/rtcore.h>
 
 #include "dcg/errors.h"
+#include "embree_scene.h"
 
 namespace dcg {
 namespace {
-
-// One Embree device for the process (creating one costs a few milliseconds); never released, as
-// SurfaceQuery objects may live in static storage.
-RTCDevice embree_device() {
-  static RTCDevice device = [] {
-    RTCDevice d = rtcNewDevice(nullptr);
-    if (!d) throw std::runtime_error("Embree: cannot create a device");
-    return d;
-  }();
-  return device;
-}
 
 // Closest point to p on the triangle (a, b, c); `l` receives its barycentric coordinates.
 Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -310,27 +300,7 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
     i = j;
   }
 
-  // The Embree scene.
-  RTCDevice device = embree_device();
-  m.scene = rtcNewScene(device);
-  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
-  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                         RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nf));
-  if (!vb || !ib) {
-    rtcReleaseGeometry(geometry);
-    throw std::runtime_error("Embree: cannot allocate the mesh buffers");
-  }
-  for (int i = 0; i < nv; ++i)
-    for (int k = 0; k < 3; ++k) vb[3 * i + k] = static_cast<float>(V(i, k) - m.center[k]);
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) ib[3 * f + k] = static_cast<unsigned>(F(f, k));
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometry(m.scene, geometry);
-  rtcReleaseGeometry(geometry);
-  rtcCommitScene(m.scene);
+  m.scene = internal::triangle_scene(V, F, m.center.data());
 }
 
 SurfaceQuery::~SurfaceQuery() = default;

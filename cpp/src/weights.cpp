@@ -7,6 +7,8 @@
 // ordering (tens of milliseconds); then the triangular solves, 8 bones per pass over the factor,
 // blocks in parallel. The transfer to the input is a few multiply-adds per input vertex and bone.
 #include "dcg/weights.h"
+#include "embree_scene.h"
+#include "union_find.h"
 
 #include <algorithm>
 #include <chrono>
@@ -36,16 +38,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// One Embree device for the weights (creating one costs a few milliseconds); never released.
-RTCDevice embree_device() {
-  static RTCDevice device = [] {
-    RTCDevice d = rtcNewDevice(nullptr);
-    if (!d) throw std::runtime_error("Embree: cannot create a device");
-    return d;
-  }();
-  return device;
-}
-
 // cot of the angle between u and v, bounded so that a needle triangle cannot make the matrix
 // explode (|cot| <= 1e4 is an angle of 0.006 degrees).
 double cotangent(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
@@ -58,24 +50,15 @@ double cotangent(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
 
 // Union-find over the vertices through the faces: a component label per vertex (0..count-1).
 Eigen::VectorXi vertex_components(int nv, const Faces& F, int& count) {
-  std::vector<int> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  internal::UnionFind uf(nv);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const int a = find(F(f, 0));
-    for (int k = 1; k < 3; ++k) {
-      const int b = find(F(f, k));
-      if (a != b) parent[b] = a;
-    }
+    for (int k = 1; k < 3; ++k) uf.unite(F(f, 0), F(f, k));
   }
   Eigen::VectorXi label = Eigen::VectorXi::Constant(nv, -1);
   std::vector<int> root_label(nv, -1);
   count = 0;
   for (int v = 0; v < nv; ++v) {
-    const int r = find(v);
+    const int r = uf.find(v);
     if (root_label[r] < 0) root_label[r] = count++;
     label[v] = root_label[r];
   }
@@ -280,26 +263,7 @@ BoneHeat::BoneHeat(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
 
   // The Embree scene.
   m.center = 0.5 * (m.V.colwise().minCoeff() + m.V.colwise().maxCoeff());
-  RTCDevice device = embree_device();
-  m.scene = rtcNewScene(device);
-  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
-  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                         RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-  auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nf));
-  if (!vb || !ib) {
-    rtcReleaseGeometry(geometry);
-    throw std::runtime_error("Embree: cannot allocate the mesh buffers");
-  }
-  for (int i = 0; i < nv; ++i)
-    for (int k = 0; k < 3; ++k) vb[3 * i + k] = static_cast<float>(m.V(i, k) - m.center[k]);
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) ib[3 * f + k] = static_cast<unsigned>(m.F(f, k));
-  rtcCommitGeometry(geometry);
-  rtcAttachGeometry(m.scene, geometry);
-  rtcReleaseGeometry(geometry);
-  rtcCommitScene(m.scene);
+  m.scene = internal::triangle_scene(m.V, m.F, m.center.data());
 }
 
 BoneHeat::~BoneHeat() = default;

@@ -99,8 +99,10 @@ inline Mesh torus(double R, double r, int nu = 48, int nv = 24) {
 
 /// Capsule along z: a cylinder of `radius` and straight `length`, closed by two hemispheres.
 /// `rings` latitude steps per hemisphere, `segments` around, `sections` along the cylinder.
+/// Vertices: the top pole, the latitude rows from top to bottom, the bottom pole; `ring`, when
+/// given, receives each vertex's row (-1 for the top pole, the row count for the bottom one).
 inline Mesh capsule(double radius, double length, int rings = 12, int segments = 32,
-                    int sections = 12) {
+                    int sections = 12, std::vector<int>* ring = nullptr) {
   std::vector<Eigen::Vector3d> V;
   std::vector<std::array<int, 3>> F;
   // Latitude rows from the top pole to the bottom pole (poles excluded).
@@ -122,6 +124,11 @@ inline Mesh capsule(double radius, double length, int rings = 12, int segments =
     }
   V.emplace_back(0, 0, -0.5 * length - radius);
   const int nrows = static_cast<int>(rows.size()), bottom = static_cast<int>(V.size()) - 1;
+  if (ring) {
+    ring->assign(V.size(), nrows);
+    (*ring)[0] = -1;
+    for (int v = 1; v < bottom; ++v) (*ring)[v] = (v - 1) / segments;
+  }
   auto id = [&](int row, int j) { return 1 + row * segments + (j + segments) % segments; };
   for (int j = 0; j < segments; ++j) {
     F.push_back({0, id(0, j), id(0, j + 1)});

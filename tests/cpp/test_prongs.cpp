@@ -22,6 +22,7 @@
 #include "dcg/prongs.h"
 #include "dcg/surface_query.h"
 #include "dcg/voronoi_balls.h"
+#include "manifest.h"
 #include "shapes.h"
 
 namespace {
@@ -236,41 +237,6 @@ TEST(Prongs, EndPointsAreDistinctBallsThatSeeThePeaks) {
 
 // --- the public meshes ---------------------------------------------------------------------------
 
-struct ManifestRow {
-  std::string file;
-  bool closed = false;
-  int expected_low = 0, expected_high = 0;  // "2-3 + 1 loop" -> 2..3, "~2" -> 2..2
-  std::string expected_text;
-};
-
-std::vector<ManifestRow> read_manifest(const std::string& path) {
-  std::vector<ManifestRow> rows;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> cols;
-    std::stringstream ss(line);
-    std::string col;
-    while (std::getline(ss, col, '\t')) cols.push_back(col);
-    if (cols.size() < 10) continue;
-    ManifestRow r;
-    r.file = cols[0];
-    r.closed = cols[6] == "yes";
-    r.expected_text = cols[9];
-    const std::string& e = cols[9];
-    std::size_t i = e.find_first_of("0123456789");
-    if (i == std::string::npos) continue;
-    std::size_t j = i;
-    while (j < e.size() && std::isdigit(static_cast<unsigned char>(e[j]))) ++j;
-    r.expected_low = r.expected_high = std::stoi(e.substr(i, j - i));
-    if (j + 1 < e.size() && e[j] == '-' && std::isdigit(static_cast<unsigned char>(e[j + 1]))) {
-      r.expected_high = std::stoi(e.substr(j + 1));
-    }
-    rows.push_back(r);
-  }
-  return rows;
-}
 
 TEST(Prongs, PublicMeshesMatchTheManifest) {
   const std::string dir = test::meshes_dir();
@@ -289,20 +255,20 @@ TEST(Prongs, PublicMeshesMatchTheManifest) {
   std::printf("\n%-20s %-44s %6s  %s\n", "mesh", "expected end points (MANIFEST)", "found",
               "ratios of the strongest peaks");
   int matches = 0, rows = 0;
-  for (const ManifestRow& r : read_manifest(manifest)) {
+  for (const test::ManifestRow& r : test::read_manifest(manifest)) {
     if (!r.closed) continue;
     const std::string path = dir + "/" + r.file;
     if (!std::filesystem::exists(path)) continue;
     const Mesh m = dcg::read_mesh(path);
     const dcg::ProngFeatures pf = prongs_of(m);
     const int found = static_cast<int>(pf.prongs.vertices.size());
-    const bool match = found >= r.expected_low && found <= r.expected_high;
-    std::printf("%-20s %-44s %6d  %s%s\n", r.file.c_str(), r.expected_text.c_str(), found,
+    const bool match = found >= r.low && found <= r.high;
+    std::printf("%-20s %-44s %6d  %s%s\n", r.file.c_str(), r.expected.c_str(), found,
                 ratios(pf, 8).c_str(), match ? "" : "   <- differs");
     ++rows;
     matches += match;
-    EXPECT_LE(found, r.expected_high + 2) << r.file;
-    EXPECT_GE(found, r.expected_low - 2) << r.file;
+    EXPECT_LE(found, r.high + 2) << r.file;
+    EXPECT_GE(found, r.low - 2) << r.file;
     auto it = exact.find(r.file);
     if (it != exact.end() && it->second) {
       EXPECT_TRUE(match) << r.file << ": found " << found;

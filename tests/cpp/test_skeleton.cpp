@@ -17,6 +17,7 @@
 
 #include "dcg/io.h"
 #include "dcg/pipeline.h"
+#include "manifest.h"
 #include "shapes.h"
 #include "skeleton_checks.h"
 
@@ -184,43 +185,6 @@ TEST(Skeleton, EndsAndJointsSurviveRotationScaleAndNoise) {
 
 // --- the public meshes ---------------------------------------------------------------------------
 
-struct ManifestRow {
-  std::string file;
-  bool closed = false;
-  int genus = 0;
-  int low = 0, high = 0;  // expected end points: "2-3 + 1 loop" -> 2..3, "~2 + 4 loops" -> 2
-  std::string expected;
-};
-
-std::vector<ManifestRow> read_manifest(const std::string& path) {
-  std::vector<ManifestRow> rows;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> cols;
-    std::stringstream ss(line);
-    std::string col;
-    while (std::getline(ss, col, '\t')) cols.push_back(col);
-    if (cols.size() < 10) continue;
-    ManifestRow r;
-    r.file = cols[0];
-    r.closed = cols[6] == "yes";
-    r.genus = cols[7].empty() ? 0 : std::stoi(cols[7]);
-    r.expected = cols[9];
-    const std::size_t i = r.expected.find_first_of("0123456789");
-    if (i == std::string::npos) continue;
-    std::size_t j = i;
-    while (j < r.expected.size() && std::isdigit(static_cast<unsigned char>(r.expected[j]))) ++j;
-    r.low = r.high = std::stoi(r.expected.substr(i, j - i));
-    if (j + 1 < r.expected.size() && r.expected[j] == '-' &&
-        std::isdigit(static_cast<unsigned char>(r.expected[j + 1]))) {
-      r.high = std::stoi(r.expected.substr(j + 1));
-    }
-    rows.push_back(r);
-  }
-  return rows;
-}
 
 TEST(SkeletonPublic, ClosedMeshesAreSoundAndMatchTheManifest) {
   const std::string dir = test::meshes_dir();
@@ -247,7 +211,7 @@ TEST(SkeletonPublic, ClosedMeshesAreSoundAndMatchTheManifest) {
   std::printf("\n%-18s %-34s %4s %6s %6s %5s %7s %7s %8s %7s\n", "mesh", "expected ends (MANIFEST)",
               "ends", "joints", "conn.", "links", "cycles", "genus", "inside%", "stable");
   int matches = 0, rows = 0;
-  for (const ManifestRow& row : read_manifest(manifest)) {
+  for (const test::ManifestRow& row : test::read_manifest(manifest)) {
     if (!row.closed) continue;
     const std::string path = dir + "/" + row.file;
     if (!std::filesystem::exists(path)) continue;

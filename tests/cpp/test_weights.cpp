@@ -17,6 +17,7 @@
 #include "dcg/io.h"
 #include "dcg/prepare.h"
 #include "dcg/weights.h"
+#include "shapes.h"
 
 namespace {
 
@@ -25,51 +26,11 @@ using dcg::Mesh;
 
 // --- small shapes (self-contained: these tests need nothing else) -----------------------------
 
-// Capsule along z: cylinder of `radius` from z = -length/2 to length/2 closed by hemispheres;
-// vertices in latitude rings of `segments` (the ring index is returned in `ring`).
+// The shared capsule (shapes.h) with the resolution these tests were tuned on; `ring` receives
+// each vertex's latitude row.
 Mesh capsule(double radius, double length, std::vector<int>* ring = nullptr, int rings = 10,
              int segments = 24, int sections = 24) {
-  std::vector<std::pair<double, double>> rows;  // (z, ring radius), top to bottom
-  for (int i = 1; i <= rings; ++i) {
-    const double theta = 0.5 * M_PI * i / rings;
-    rows.emplace_back(0.5 * length + radius * std::cos(theta), radius * std::sin(theta));
-  }
-  for (int i = 1; i < sections; ++i) rows.emplace_back(0.5 * length - length * i / sections, radius);
-  for (int i = 0; i < rings; ++i) {
-    const double theta = 0.5 * M_PI + 0.5 * M_PI * i / rings;
-    rows.emplace_back(-0.5 * length + radius * std::cos(theta), radius * std::sin(theta));
-  }
-  const int nrows = static_cast<int>(rows.size());
-  Mesh m;
-  m.V.resize(2 + nrows * segments, 3);
-  std::vector<int> rid(m.V.rows());
-  m.V.row(0) << 0, 0, 0.5 * length + radius;
-  rid[0] = -1;
-  for (int r = 0; r < nrows; ++r)
-    for (int j = 0; j < segments; ++j) {
-      const double phi = 2 * M_PI * j / segments;
-      m.V.row(1 + r * segments + j) << rows[r].second * std::cos(phi),
-          rows[r].second * std::sin(phi), rows[r].first;
-      rid[1 + r * segments + j] = r;
-    }
-  const int bottom = static_cast<int>(m.V.rows()) - 1;
-  m.V.row(bottom) << 0, 0, -0.5 * length - radius;
-  rid[bottom] = nrows;
-  auto id = [&](int r, int j) { return 1 + r * segments + (j + segments) % segments; };
-  std::vector<std::array<int, 3>> F;
-  for (int j = 0; j < segments; ++j) {
-    F.push_back({0, id(0, j), id(0, j + 1)});
-    F.push_back({bottom, id(nrows - 1, j + 1), id(nrows - 1, j)});
-  }
-  for (int r = 0; r + 1 < nrows; ++r)
-    for (int j = 0; j < segments; ++j) {
-      F.push_back({id(r, j), id(r + 1, j), id(r + 1, j + 1)});
-      F.push_back({id(r, j), id(r + 1, j + 1), id(r, j + 1)});
-    }
-  m.F.resize(static_cast<Eigen::Index>(F.size()), 3);
-  for (std::size_t f = 0; f < F.size(); ++f) m.F.row(f) << F[f][0], F[f][1], F[f][2];
-  if (ring) *ring = rid;
-  return m;
+  return dcg::test::capsule(radius, length, rings, segments, sections, ring);
 }
 
 // UV sphere of `radius` at `center`: `rings` latitude steps, `segments` around.
@@ -102,14 +63,7 @@ Mesh sphere(const Eigen::RowVector3d& center, double radius, int rings = 12, int
   return m;
 }
 
-Mesh merged(const Mesh& a, const Mesh& b) {
-  Mesh m;
-  m.V.resize(a.V.rows() + b.V.rows(), 3);
-  m.V << a.V, b.V;
-  m.F.resize(a.F.rows() + b.F.rows(), 3);
-  m.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
-  return m;
-}
+using dcg::test::merged;
 
 Bones bones_from(std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> list) {
   Bones b;
