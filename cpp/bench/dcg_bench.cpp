@@ -1,7 +1,8 @@
 // dcg_bench: times every stage of the engine (dcg::Extractor) on mesh files and, on closed
 // manifold meshes, CGAL's mean curvature flow skeleton in the same process as the baseline.
 //
-//   dcg_bench [--repeat N] [--no-mcf] [--mcf-max-faces N] [--output FILE]
+//   dcg_bench [--repeat N] [--no-mcf] [--mcf-max-faces N] [--no-stability]
+//             [--stability-seed N] [--skeleton-dir DIR] [--output FILE]
 //             [--option NAME=VALUE]... [--repair auto|none] PATH...
 //
 // PATH is a mesh file (.obj .off .ply .stl) or a folder whose mesh files (not recursive) are
@@ -11,20 +12,31 @@
 // "stages" holds whatever the Extractor timed, in the order it ran (new stages appear by
 // themselves); "total" is the engine's own sum; "ratio" = MCF seconds / total. A mesh that fails
 // gets its message in "error" and the run goes on. Progress goes to stderr.
+// Quality, outside the timings: "engine" holds our skeleton's ends, joints, connections,
+// cycles and inside % (samples along the skeleton inside the input by ray parity), "mcf" the
+// same inside % for CGAL's skeleton, "stability" whether ends and joints stay the same when the
+// mesh is rotated, scaled, shaken by 0.3% noise and remeshed with another seed (one more run,
+// random draws seeded by --stability-seed and the file name, so the report is reproducible).
+// --skeleton-dir writes both skeletons per mesh (<DIR>/<file name>.json, for the contact sheet).
 // scripts/bench.py (`make bench`) runs this and writes out/bench/report.md.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <random>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "dcg/io.h"
 #include "dcg/pipeline.h"
@@ -106,12 +118,16 @@ struct Args {
   int repeat = 1;              // runs of our pipeline per mesh; the fastest total is reported
   bool mcf = true;             // run the CGAL baseline
   long long mcf_max_faces = 0;  // skip MCF above this many faces (0: no limit)
+  bool stability = true;       // one more run on a rotated, scaled, noisy, reseeded copy
+  unsigned stability_seed = 1;  // with the file name, seeds the copy's random draws
+  std::string skeleton_dir;    // write <dir>/<file name>.json with both skeletons ("": no)
   std::string output;          // JSON lines file ("" or "-": stdout)
   dcg::Options options;
 };
 
 void print_usage(std::ostream& os) {
-  os << "usage: dcg_bench [--repeat N] [--no-mcf] [--mcf-max-faces N] [--output FILE]\n"
+  os << "usage: dcg_bench [--repeat N] [--no-mcf] [--mcf-max-faces N] [--no-stability]\n"
+        "                 [--stability-seed N] [--skeleton-dir DIR] [--output FILE]\n"
         "                 [--option NAME=VALUE]... [--repair auto|none] PATH...\n"
         "Times every stage of the DCG engine on each mesh (.obj .off .ply .stl) of the given\n"
         "files and folders, and CGAL's mean curvature flow skeleton on the closed manifold ones.\n"
@@ -119,6 +135,9 @@ void print_usage(std::ostream& os) {
         "  --repeat N          runs of our pipeline per mesh, the fastest is kept (default 1)\n"
         "  --no-mcf            do not run the CGAL baseline\n"
         "  --mcf-max-faces N   skip the baseline on meshes with more than N faces (0: no limit)\n"
+        "  --no-stability      skip the stability run (rotated, scaled, 0.3% noise, new seed)\n"
+        "  --stability-seed N  seed of the stability run's draws, with the file name (default 1)\n"
+        "  --skeleton-dir DIR  write DIR/<file name>.json: our skeleton and CGAL's\n"
         "  --output FILE       write the JSON lines to FILE\n"
         "  --option NAME=VALUE set an engine option (see README.md, Options)\n"
         "  --repair auto|none  the engine's repair option\n";
@@ -142,6 +161,12 @@ Args parse_args(int argc, char** argv) {
       args.mcf = false;
     } else if (a == "--mcf-max-faces") {
       args.mcf_max_faces = std::stoll(value(i));
+    } else if (a == "--no-stability") {
+      args.stability = false;
+    } else if (a == "--stability-seed") {
+      args.stability_seed = static_cast<unsigned>(std::stoul(value(i)));
+    } else if (a == "--skeleton-dir") {
+      args.skeleton_dir = value(i);
     } else if (a == "--output" || a == "-o") {
       args.output = value(i);
     } else if (a == "--option") {
@@ -191,12 +216,38 @@ std::vector<fs::path> collect_meshes(const std::vector<std::string>& paths) {
 
 // --- skeleton quality ---------------------------------------------------------------------------
 
+// Bounding-box diagonal of the referenced vertices.
+double diagonal(const dcg::Mesh& mesh) {
+  if (mesh.V.rows() == 0) return 0;
+  return (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+}
+
+// Share (in %) of the samples of a skeleton inside the mesh by ray parity: every point, and
+// along every segment a point each `spacing` (the segment's inner points, none on a segment
+// shorter than `spacing`). Our skeleton (nodes and polyline points, polyline segments) and
+// CGAL's (vertices, edges) are sampled alike. NAN without a surface query or samples.
+double inside_percent(const dcg::SurfaceQuery* surface, const dcg::Points& points,
+                      const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& segments,
+                      double spacing) {
+  if (!surface) return NAN;
+  long inside = 0, total = 0;
+  for (Eigen::Index i = 0; i < points.rows(); ++i, ++total)
+    inside += surface->inside_by_parity(points.row(i).transpose());
+  for (const auto& [a, b] : segments) {
+    const int n = spacing > 0 ? static_cast<int>(std::ceil((b - a).norm() / spacing)) : 1;
+    for (int k = 1; k < n; ++k, ++total)
+      inside += surface->inside_by_parity(a + (b - a) * (double(k) / n));
+  }
+  return total ? 100.0 * inside / total : NAN;
+}
+
 struct Quality {
   int ends = 0, joints = 0, connections = 0, cycles = 0, components = 0, unlabelled_faces = 0;
-  double inside_percent = 100;
+  double inside_percent = NAN;         // samples along the skeleton, see inside_percent()
+  double inside_points_percent = NAN;  // nodes and polyline points only
 };
 
-Quality quality(const dcg::Mesh& mesh, const dcg::Skeleton& s) {
+Quality quality(const dcg::SurfaceQuery* surface, double spacing, const dcg::Skeleton& s) {
   Quality q;
   const int n = static_cast<int>(s.positions.rows());
   std::vector<int> parent(n);
@@ -214,18 +265,83 @@ Quality quality(const dcg::Mesh& mesh, const dcg::Skeleton& s) {
   }
   q.cycles = static_cast<int>(s.links.rows()) - n + q.components;
   for (Eigen::Index f = 0; f < s.face_labels.size(); ++f) q.unlabelled_faces += s.face_labels[f] < 0;
-  try {
-    const dcg::SurfaceQuery surface(mesh);
-    int inside = 0, total = 0;
-    for (int i = 0; i < n; ++i, ++total) inside += surface.inside_by_parity(s.positions.row(i).transpose());
-    for (const auto& p : s.polylines) {
-      for (Eigen::Index i = 1; i + 1 < p.rows(); ++i, ++total) inside += surface.inside_by_parity(p.row(i).transpose());
-    }
-    q.inside_percent = total ? 100.0 * inside / total : 100.0;
-  } catch (const std::exception&) {
-    q.inside_percent = NAN;
+  // The nodes and the polylines' inner points (their end points are nodes).
+  Eigen::Index count = n;
+  for (const auto& p : s.polylines) count += std::max<Eigen::Index>(p.rows() - 2, 0);
+  dcg::Points points(count, 3);
+  points.topRows(n) = s.positions;
+  Eigen::Index row = n;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
+  for (const auto& p : s.polylines) {
+    for (Eigen::Index i = 1; i + 1 < p.rows(); ++i) points.row(row++) = p.row(i);
+    for (Eigen::Index i = 0; i + 1 < p.rows(); ++i)
+      segments.emplace_back(p.row(i).transpose(), p.row(i + 1).transpose());
   }
+  q.inside_points_percent = inside_percent(surface, points, {}, spacing);
+  q.inside_percent = inside_percent(surface, points, segments, spacing);
   return q;
+}
+
+// --- stability: the same mesh rotated, scaled, moved and shaken ----------------------------------
+
+// FNV-1a: a seed from the file name that does not depend on the platform or the run's order.
+unsigned name_hash(const std::string& s) {
+  std::uint32_t h = 2166136261u;
+  for (unsigned char c : s) h = (h ^ c) * 16777619u;
+  return h;
+}
+
+// x -> scale R x + t with R uniform on SO(3), scale 10^U(-2, 2), t within 10 diagonals, then
+// every coordinate moved by U(-1, 1) 0.3% of the diagonal (tests/cpp/shapes.h does the same).
+dcg::Mesh perturbed(const dcg::Mesh& mesh, std::mt19937& rng, double* scale_out = nullptr) {
+  std::normal_distribution<double> g;
+  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+  q.normalize();
+  const Eigen::Matrix3d R = q.toRotationMatrix();
+  const double scale = std::pow(10.0, std::uniform_real_distribution<double>(-2, 2)(rng));
+  if (scale_out) *scale_out = scale;
+  const double diag = diagonal(mesh);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d t(10 * diag * u(rng), 10 * diag * u(rng), 10 * diag * u(rng));
+  dcg::Mesh out = mesh;
+  for (Eigen::Index i = 0; i < out.V.rows(); ++i) {
+    out.V.row(i) = (scale * (R * mesh.V.row(i).transpose()) + scale * t).transpose();
+    for (int k = 0; k < 3; ++k) out.V(i, k) += 0.003 * scale * diag * u(rng);
+  }
+  return out;
+}
+
+// --- the skeletons as JSON (--skeleton-dir) ------------------------------------------------------
+
+std::string json_points(const dcg::Points& p) {
+  std::string out = "[";
+  for (Eigen::Index i = 0; i < p.rows(); ++i) {
+    out += (i ? ",[" : "[") + json_number(p(i, 0)) + "," + json_number(p(i, 1)) + "," +
+           json_number(p(i, 2)) + "]";
+  }
+  return out + "]";
+}
+
+std::string json_pairs(const dcg::Edges& e) {
+  std::string out = "[";
+  for (Eigen::Index i = 0; i < e.rows(); ++i)
+    out += (i ? ",[" : "[") + std::to_string(e(i, 0)) + "," + std::to_string(e(i, 1)) + "]";
+  return out + "]";
+}
+
+std::string skeleton_json(const dcg::Skeleton& s) {
+  std::string kinds = "[", polylines = "[";
+  for (size_t i = 0; i < s.kinds.size(); ++i)
+    kinds += (i ? "," : "") + json_string(dcg::node_kind_name(s.kinds[i]));
+  for (size_t i = 0; i < s.polylines.size(); ++i)
+    polylines += (i ? "," : "") + json_points(s.polylines[i]);
+  JsonObject o;
+  o.str("method", s.method)
+      .raw("positions", json_points(s.positions))
+      .raw("kinds", kinds + "]")
+      .raw("links", json_pairs(s.links))
+      .raw("polylines", polylines + "]");
+  return o.dump();
 }
 
 // --- one mesh -----------------------------------------------------------------------------------
@@ -237,12 +353,23 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
   dcg::Mesh mesh;
   bool loaded = false;
   double total = NAN;
+  std::unique_ptr<dcg::SurfaceQuery> surface;  // the input's surface, for the inside tests
+  double spacing = 0;                          // of the inside samples: 0.5% of the diagonal
+  dcg::Skeleton ours;                          // the skeleton of the fastest run
+  Quality best_quality;
+  bool have_ours = false;
   try {
     const double t0 = now_seconds();
     mesh = dcg::read_mesh(path.string());
     row.num("load_seconds", now_seconds() - t0);
     loaded = true;
     row.integer("vertices", mesh.V.rows()).integer("faces", mesh.F.rows());
+    spacing = 0.005 * diagonal(mesh);
+    try {
+      surface = std::make_unique<dcg::SurfaceQuery>(mesh);
+    } catch (const std::exception&) {
+      surface.reset();  // inside % is then null
+    }
     std::cerr << "dcg_bench: " << path.filename().string() << " (" << mesh.F.rows()
               << " faces): ours" << std::flush;
 
@@ -282,15 +409,20 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
             .integer("nodes", skeleton.positions.rows())
             .integer("links", skeleton.links.rows());
         // Quality of the skeleton (outside the timing): kinds, cycles, components, the share
-        // of nodes and polyline points inside the input (ray parity), unlabelled input faces.
-        const Quality q = quality(mesh, skeleton);
+        // of samples along the skeleton inside the input (ray parity; also of the nodes and
+        // polyline points alone), unlabelled input faces.
+        const Quality q = quality(surface.get(), spacing, skeleton);
         info.integer("ends", q.ends)
             .integer("joints", q.joints)
             .integer("connections", q.connections)
             .integer("cycles", q.cycles)
             .integer("components", q.components)
             .num("inside_percent", q.inside_percent)
+            .num("inside_points_percent", q.inside_points_percent)
             .integer("unlabelled_faces", q.unlabelled_faces);
+        ours = skeleton;
+        best_quality = q;
+        have_ours = true;
       }
     }
     JsonObject stages;
@@ -307,10 +439,48 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
     error = "unknown exception";
   }
 
+  // Stability (not timed as ours): one more run on a rotated, scaled, moved, noisy copy with
+  // another seed; are the ends and joints the same as above?
+  if (have_ours && args.stability) {
+    JsonObject st;
+    try {
+      std::cerr << ", stability" << std::flush;
+      std::mt19937 rng(args.stability_seed ^ name_hash(path.filename().string()));
+      double scale = 1;
+      const dcg::Mesh moved = perturbed(mesh, rng, &scale);
+      dcg::Options options = args.options;
+      options.seed = args.options.seed + 1;
+      const double t1 = now_seconds();
+      dcg::Extractor extractor(moved.V, moved.F, options);
+      const dcg::Skeleton& skeleton = extractor.skeleton();
+      const Quality q = quality(nullptr, 0, skeleton);
+      st.str("status", "ok")
+          .str("method", skeleton.method)
+          .num("seconds", now_seconds() - t1)
+          .integer("seed", options.seed)
+          .num("scale", scale)
+          .integer("ends", q.ends)
+          .integer("joints", q.joints)
+          .integer("cycles", q.cycles)
+          .boolean("same_ends", q.ends == best_quality.ends)
+          .boolean("same_joints", q.joints == best_quality.joints)
+          .boolean("stable", q.ends == best_quality.ends && q.joints == best_quality.joints);
+      std::cerr << (q.ends == best_quality.ends && q.joints == best_quality.joints ? " same"
+                                                                                  : " differs");
+    } catch (const std::exception& e) {
+      st = JsonObject();
+      st.str("status", "failed").str("note", e.what()).null("stable");
+      std::cerr << " failed";
+    }
+    row.raw("stability", st.dump());
+  } else {
+    row.null("stability");
+  }
+
   // The baseline, on the same triangles, when they loaded (even if our engine failed).
   double mcf_seconds = NAN;
+  dcg::bench::McfResult mcf;
   if (loaded) {
-    dcg::bench::McfResult mcf;
     bool ran = false;
     if (!args.mcf) {
       mcf.note = "disabled (--no-mcf)";
@@ -325,12 +495,20 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
     m.str("status", dcg::bench::status_name(mcf.status));
     if (mcf.status == dcg::bench::McfResult::Status::Ok) {
       mcf_seconds = mcf.seconds;
+      // Its inside %, sampled like ours: vertices, and along every edge.
+      std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
+      for (Eigen::Index e = 0; e < mcf.edges.rows(); ++e) {
+        segments.emplace_back(mcf.points.row(mcf.edges(e, 0)).transpose(),
+                              mcf.points.row(mcf.edges(e, 1)).transpose());
+      }
       m.num("seconds", mcf.seconds)
           .num("build_seconds", mcf.build_seconds)
           .integer("mesh_vertices", mcf.mesh_vertices)
           .boolean("welded", mcf.welded)
           .integer("skeleton_vertices", mcf.skeleton_vertices)
-          .integer("skeleton_edges", mcf.skeleton_edges);
+          .integer("skeleton_edges", mcf.skeleton_edges)
+          .num("inside_percent", inside_percent(surface.get(), mcf.points, segments, spacing))
+          .num("inside_points_percent", inside_percent(surface.get(), mcf.points, {}, spacing));
       std::cerr << " " << json_number(mcf.seconds) << " s";
     } else {
       m.null("seconds");
@@ -342,6 +520,32 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
     row.null("mcf");
   }
   row.num("ratio", std::isfinite(total) && total > 0 ? mcf_seconds / total : NAN);
+
+  // Both skeletons for the contact sheet.
+  if (loaded && !args.skeleton_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(args.skeleton_dir, ec);
+    const fs::path file = fs::path(args.skeleton_dir) / (path.filename().string() + ".json");
+    std::ofstream out(file);
+    JsonObject o;
+    o.str("mesh", path.filename().string()).str("path", path.string());
+    if (have_ours) {
+      o.raw("ours", skeleton_json(ours));
+    } else {
+      o.null("ours");
+    }
+    if (mcf.status == dcg::bench::McfResult::Status::Ok) {
+      JsonObject m;
+      m.raw("points", json_points(mcf.points)).raw("edges", json_pairs(mcf.edges));
+      o.raw("mcf", m.dump());
+    } else {
+      o.null("mcf");
+    }
+    out << o.dump() << "\n";
+    if (!out) std::cerr << " (cannot write " << file.string() << ")";
+    row.str("skeleton_file", file.string());
+  }
+
   if (error.empty()) {
     row.null("error");
   } else {
@@ -381,7 +585,9 @@ int main(int argc, char** argv) {
       .integer("repeat", args.repeat)
       .boolean("mcf", args.mcf)
       .integer("mcf_max_faces", args.mcf_max_faces)
-      .str("repair", dcg::repair_name(args.options.repair));
+      .str("repair", dcg::repair_name(args.options.repair))
+      .boolean("stability", args.stability)
+      .integer("stability_seed", args.stability_seed);
   JsonObject options;
   for (const auto& spec : dcg::numeric_option_specs()) {
     options.num(spec.name, dcg::get_numeric_option(args.options, spec.name));

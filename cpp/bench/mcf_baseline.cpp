@@ -101,6 +101,19 @@ McfResult run_mcf_skeleton(const Vertices& V, const Faces& F) {
     result.seconds = now_seconds() - t1;
     result.skeleton_vertices = static_cast<int>(boost::num_vertices(skeleton));
     result.skeleton_edges = static_cast<int>(boost::num_edges(skeleton));
+    // The skeleton's geometry (outside the timing), for the bench's quality columns.
+    result.points.resize(result.skeleton_vertices, 3);
+    int i = 0;
+    for (auto v : CGAL::make_range(vertices(skeleton))) {  // vecS: indices 0..n-1 in order
+      const Point& p = skeleton[v].point;
+      result.points.row(i++) << p.x(), p.y(), p.z();
+    }
+    result.edges.resize(result.skeleton_edges, 2);
+    i = 0;
+    for (auto e : CGAL::make_range(edges(skeleton))) {
+      result.edges.row(i++) << static_cast<int>(source(e, skeleton)),
+          static_cast<int>(target(e, skeleton));
+    }
     result.status = McfResult::Status::Ok;
   } catch (const std::exception& e) {
     result.status = McfResult::Status::Failed;

@@ -19,6 +19,8 @@ struct McfResult {
   bool welded = false;       ///< exact duplicate points had to be welded first
   int skeleton_vertices = 0;  ///< nodes of the MCF skeleton (Ok)
   int skeleton_edges = 0;     ///< edges of the MCF skeleton (Ok)
+  Points points;              ///< #S by 3 MCF skeleton vertices, input coordinates (Ok)
+  Edges edges;                ///< #E by 2 MCF skeleton edges into `points` (Ok)
   std::string note;           ///< why it was skipped or failed; empty when Ok
 };
 
