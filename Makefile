@@ -47,17 +47,20 @@ addon: build
 	@$(PYTHON) scripts/make_addon_zip.py $(BUILD)/blender_scripts/addons/dcg_rig $(OUT)/dcg_rig.zip
 
 # Timings of every stage on every mesh of MESHES (folders or files), with CGAL's mean curvature
-# flow skeleton as the baseline: out/bench/report.md (and results.jsonl); the whole pipeline on a
-# 1.4M-face subdivided armadillo, time and peak RSS (out/bench/big.md); then `dcg batch` models
-# per minute with 1 and 2 workers: out/bench/batch.md; our skinning weights against Blender's bone
-# heat on the same armatures (out/bench/weights.md, and spot at scales 0.01 and 100 in
-# weights-scaled.md). Not part of `make test`.
+# flow skeleton as the baseline: out/bench/report.md (and results.jsonl), with each skeleton's
+# quality (ends, joints, cycles, inside % for ours and MCF's, stability under rotation, scale,
+# noise and another seed) and out/bench/contact_sheet.png (every mesh with its skeleton); the
+# whole pipeline on a 1.4M-face subdivided armadillo, time and peak RSS (out/bench/big.md);
+# then `dcg batch` models per minute with 1 and 2 workers: out/bench/batch.md; our skinning
+# weights against Blender's bone heat on the same armatures (out/bench/weights.md, and spot at
+# scales 0.01 and 100 in weights-scaled.md). Not part of `make test`.
 MESHES ?= ../shared/meshes
 # The mesh files of MESHES (folders expanded), for the scripts that take files.
 BENCH_FILES = $(sort $(foreach m,$(MESHES),$(if $(wildcard $(m)/.),$(wildcard $(addprefix $(m)/*.,obj off ply stl)),$(m))))
 bench: build
 	@cmake --build $(BUILD) --target dcg_bench -j$(JOBS)
-	$(PYTHON) scripts/bench.py --binary $(BUILD)/dcg_bench --out $(OUT)/bench/report.md $(MESHES)
+	$(PYTHON) scripts/bench.py --binary $(BUILD)/dcg_bench --pythonpath $(BUILD)/python \
+	  --out $(OUT)/bench/report.md $(MESHES)
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_big.py --mesh $(OUT)/bench/armadillo-1m.ply \
 	  --out $(OUT)/bench/big.md
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_batch.py --out $(OUT)/bench/batch.md $(MESHES)
