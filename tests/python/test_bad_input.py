@@ -375,6 +375,15 @@ def test_polygon_faces_in_files_are_triangulated(tmp_path):
     ("count.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
      "property float y\nproperty float z\nelement face -1\n"
      "property list uchar int vertex_indices\nend_header\n" + "\x00" * 40),
+    # Found by fuzzing: CGAL's PLY reader allocated an int32 list count as it was (4.6 GB).
+    ("list-count.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+     "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+     "property list int int vertex_indices\nend_header\n" + "\x00" * 36 + "\xff\xff\xff\x7f"
+     + "\x00" * 12),
+    # Found by fuzzing: a comment glued to the OFF keyword hid an edge count that overflows
+    # CGAL's int from the scan we had in front of CGAL (OFF is now read by our own reader).
+    ("comment.off", "OFF#5 3 00002118915556ele8888\n3 1 2 4\n"),
+    ("binary.off", "OFF BINARY\n" + "\x00" * 12),
     # Found by fuzzing: CGAL reads OFF indices as doubles and casts them to size_t.
     # Found by fuzzing: CGAL allocated counts the file cannot hold as they are.
     ("claims.off", "OFF\n100000000 1 0\n0 0 0\n"),

@@ -1,4 +1,5 @@
-// Reading meshes from files (CGAL's IO): OBJ, OFF, PLY (ASCII and binary), STL.
+// Reading meshes from files: OBJ and STL (CGAL's IO), PLY (ASCII and binary) and ASCII OFF
+// (our own readers).
 #pragma once
 
 #include <string>
