@@ -14,7 +14,11 @@ cd "$ROOT"
 export DCG_MESHES=${DCG_MESHES:-$(realpath -m "$ROOT/../shared/meshes")}
 [ -d "$DCG_MESHES" ] || echo "note: $DCG_MESHES is absent: tests on the public meshes are skipped"
 
-echo "== C++ tests (ctest)"
+# Each suite's header says when it started (seconds since this script began), so that a slow
+# CI run shows where its time went.
+header() { echo "== $1 [at ${SECONDS} s]"; }
+
+header "C++ tests (ctest)"
 ctest --test-dir "$BUILD" --output-on-failure -j2 --output-junit "$RESULTS/cpp.xml"
 
 # The C++ tests again under AddressSanitizer + UndefinedBehaviorSanitizer, in their own build
@@ -23,13 +27,17 @@ ctest --test-dir "$BUILD" --output-on-failure -j2 --output-junit "$RESULTS/cpp.x
 # this suite (for quick local runs; CI runs it).
 SUMMARY_FILES=("$RESULTS/cpp.xml")
 if [ "${SANITIZE:-1}" != 0 ]; then
-  echo "== C++ tests under ASan + UBSan"
+  header "C++ tests under ASan + UBSan (build, then run)"
   ASAN_BUILD="$BUILD-asan"
   if [ ! -f "$ASAN_BUILD/build.ninja" ]; then
+    # -g1: line tables only, enough for the sanitizers' stack traces; full -g made compiling
+    # the CGAL translation units much slower.
     cmake -S . -B "$ASAN_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDCG_SANITIZE=ON \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
       -DPython_EXECUTABLE=/usr/bin/python3 > /dev/null
   fi
   if cmake --build "$ASAN_BUILD" --target dcg_tests -j"${JOBS:-2}" > "$RESULTS/asan-build.log" 2>&1; then
+    echo "built [at ${SECONDS} s]"
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
       "$ASAN_BUILD/dcg_tests" --gtest_filter='-*Public*' --gtest_brief=1 \
       --gtest_output="xml:$RESULTS/cpp-asan.xml" || true
@@ -45,23 +53,23 @@ fi
 # (60) in all, after replaying the regression inputs of tests/fuzz/corpus/; suite `fuzz` (pass =
 # no crash). Reported as skipped when clang is missing; FUZZ=0 leaves it out.
 if [ "${FUZZ:-1}" != 0 ]; then
-  echo "== Fuzzing (libFuzzer, ${FUZZ_SECONDS:-60} s)"
+  header "Fuzzing (libFuzzer, ${FUZZ_SECONDS:-60} s, after its build)"
   FUZZ_BUILD="$BUILD-fuzz" bash scripts/run-fuzz.sh "${FUZZ_SECONDS:-60}" "$RESULTS/fuzz.xml"
   SUMMARY_FILES+=("$RESULTS/fuzz.xml")
 else
   echo "== Fuzzing: skipped (FUZZ=0)"
 fi
 
-echo "== Python tests (pytest, /usr/bin/python3)"
+header "Python tests (pytest, /usr/bin/python3)"
 PYTHONPATH="$BUILD/python" /usr/bin/python3 -m pytest tests/python -q -p no:cacheprovider \
   --junitxml="$RESULTS/python.xml"
 
-echo "== Blender tests (blender -b)"
+header "Blender tests (blender -b)"
 BLENDER_USER_SCRIPTS="$BUILD/blender_scripts" DCG_PYTHONPATH="$BUILD/python" \
   blender -b --factory-startup --python-exit-code 1 --python blender_tests/run.py -- \
   --junitxml "$RESULTS/blender.xml" 2>&1 | grep -v -e '^Read prefs' -e '^Blender quit' \
   -e '^$' || true
 
-echo "== Summary"
+header "Summary"
 exec /usr/bin/python3 scripts/test_summary.py "${SUMMARY_FILES[@]}" "$RESULTS/python.xml" \
   "$RESULTS/blender.xml"
