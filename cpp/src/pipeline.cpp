@@ -12,6 +12,9 @@
 #include <limits>
 #include <variant>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "dcg/errors.h"
 #include "dcg/surface_query.h"
 
@@ -307,6 +310,54 @@ Eigen::Vector3d inward_point(const Mesh& mesh, const SurfaceQuery& query, int ve
   return Eigen::Vector3d::Zero();
 }
 
+// Stage 1 keeps a Voronoi vertex when its signed distance is negative, a sign taken from the
+// nearest face's orientation. Where the working mesh folds through itself (0.3% vertex noise on
+// an octopus's thin tentacles) that sign is wrong near the fold, and circumcenters OUTSIDE the
+// shape pass as balls of radius up to three times the largest true one: they then win the domain
+// balls around them and take the end points of the tentacles (they "see" the tips from outside),
+// and the tentacles lose their ends. A ball is dropped when two rays from its center (spread
+// directions, different for each ball) do not both first meet the surface from behind (every
+// ray from a point inside a closed, outward-oriented mesh leaves the shape there; a ray from
+// outside meets a face from the front or nothing) AND ray parity puts it outside too. Cost: two
+// first-hit rays per ball, parity only for the few that fail them (~7 ms on the hand's 13k
+// balls; parity for every ball took 40 ms); on the closed public meshes it drops nothing.
+Balls drop_balls_outside(Balls balls, const SurfaceQuery& query) {
+  const Eigen::Index n = balls.radii.size();
+  std::vector<char> keep(static_cast<std::size_t>(n), 1);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 256),
+                    [&](const tbb::blocked_range<Eigen::Index>& r) {
+                      for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
+                        const Eigen::Vector3d c = balls.centers.row(i).transpose();
+                        for (int k = 0; k < 2 && keep[i]; ++k) {
+                          // Golden-angle spiral directions, indexed by ball and ray.
+                          const double j = static_cast<double>(2 * i + k) + 0.5;
+                          const double z = 1.0 - 2.0 * std::fmod(j * 0.6180339887498949, 1.0);
+                          const double phi = j * 2.399963229728653;
+                          const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+                          const Eigen::Vector3d d(s * std::cos(phi), s * std::sin(phi), z);
+                          int face = -1;
+                          const double t = query.ray_hit(c, d, &face);
+                          keep[i] = std::isfinite(t) && face >= 0 && query.face_normal(face).dot(d) > 0;
+                        }
+                        // A ray may also meet a face from the front inside the shape where the
+                        // mesh intersects itself (cow: ears through the head): ray parity,
+                        // which counts every crossing, has the last word.
+                        if (!keep[i]) keep[i] = query.inside_by_parity(c) ? 1 : 0;
+                      }
+                    });
+  Eigen::Index m = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
+    balls.centers.row(m) = balls.centers.row(i);
+    balls.radii[m] = balls.radii[i];
+    ++m;
+  }
+  if (m == n) return balls;
+  balls.centers.conservativeResize(m, 3);
+  balls.radii.conservativeResize(m);
+  return balls;
+}
+
 // --- keeping the skeleton inside the input surface ----------------------------------------------
 
 // The working mesh of stage 0 may bulge out of a remeshed input (concave places, thin parts): a
@@ -474,7 +525,7 @@ const Balls& Extractor::voronoi_balls() {
     VoronoiBallsOptions vo;
     vo.samples = options_.samples;
     vo.seed = options_.seed;
-    voronoi_ = compute_voronoi_balls(working, query(), vo);
+    voronoi_ = drop_balls_outside(compute_voronoi_balls(working, query(), vo), query());
     timed("voronoi_balls", now_seconds() - t0);
   }
   return *voronoi_;

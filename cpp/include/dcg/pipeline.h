@@ -85,7 +85,8 @@ class Extractor {
 
   /// Stage 0: the working mesh (normalized units).
   const PreparedMesh& prepare();
-  /// Stage 1: Voronoi balls (normalized units).
+  /// Stage 1: Voronoi balls (normalized units), without those whose center ray parity puts
+  /// outside the working mesh (the sign of the distance is wrong near a fold of a noisy mesh).
   const Balls& voronoi_balls();
   /// Stage 2: domain balls (normalized units).
   const DomainBalls& domain_balls();
