@@ -1,6 +1,10 @@
 #include "embree_scene.h"
 
+#include <atomic>
+#include <chrono>
+#include <exception>
 #include <stdexcept>
+#include <thread>
 
 namespace dcg::internal {
 
@@ -13,7 +17,8 @@ RTCDevice embree_device() {
   return device;
 }
 
-RTCScene triangle_scene(const Vertices& V, const Faces& F, const double center[3]) {
+RTCScene triangle_scene(const Vertices& V, const Faces& F, const double center[3],
+                        const std::function<void()>& poll) {
   const auto nv = static_cast<std::size_t>(V.rows()), nf = static_cast<std::size_t>(F.rows());
   RTCDevice device = embree_device();
   RTCScene scene = rtcNewScene(device);
@@ -35,7 +40,31 @@ RTCScene triangle_scene(const Vertices& V, const Faces& F, const double center[3
   rtcCommitGeometry(geometry);
   rtcAttachGeometry(scene, geometry);
   rtcReleaseGeometry(geometry);
-  rtcCommitScene(scene);
+  if (!poll) {
+    rtcCommitScene(scene);
+    return scene;
+  }
+  std::atomic<bool> stop{false}, done{false};
+  rtcSetSceneProgressMonitorFunction(
+      scene, [](void* flag, double) { return !static_cast<std::atomic<bool>*>(flag)->load(); },
+      &stop);
+  std::thread builder([&] {
+    rtcCommitScene(scene);
+    done = true;
+  });
+  try {
+    while (!done) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      poll();
+    }
+  } catch (...) {
+    stop = true;
+    builder.join();
+    rtcReleaseScene(scene);
+    throw;
+  }
+  builder.join();
+  rtcSetSceneProgressMonitorFunction(scene, nullptr, nullptr);
   return scene;
 }
 

@@ -17,6 +17,7 @@
 
 #include "dcg/errors.h"
 #include "dcg/surface_query.h"
+#include "polling.h"
 
 namespace dcg {
 namespace {
@@ -509,7 +510,7 @@ const PreparedMesh& Extractor::prepare() {
     po.repair = options_.repair;
     po.target_faces = options_.target_faces;
     po.seed = options_.seed;
-    prepared_ = prepare_mesh(V_, F_, po);
+    prepared_ = prepare_mesh(V_, F_, po, progress_, 0.0, 0.25);
     timed("prepare", now_seconds() - t0);
   }
   return *prepared_;
@@ -525,7 +526,10 @@ const Balls& Extractor::voronoi_balls() {
     VoronoiBallsOptions vo;
     vo.samples = options_.samples;
     vo.seed = options_.seed;
-    voronoi_ = drop_balls_outside(compute_voronoi_balls(working, query(), vo), query());
+    voronoi_ = drop_balls_outside(
+        compute_voronoi_balls(working, query(), vo,
+                              internal::throttled_poll(progress_, "voronoi_balls", 0.25)),
+        query());
     timed("voronoi_balls", now_seconds() - t0);
   }
   return *voronoi_;
@@ -655,7 +659,17 @@ const DomainGraph& Extractor::domain_graph() {
           toward = centers.row(i).transpose();
         }
       }
-      const Eigen::Vector3d p = inward_point(pm.working, query(), prongs_->prongs.vertices[e], toward, &r);
+      Eigen::Vector3d p = inward_point(pm.working, query(), prongs_->prongs.vertices[e], toward, &r);
+      // A tip that folded through itself (vertex noise on a thin tentacle) defeats the inside
+      // tests right at the peak: the first point inside (by the distance's sign and by ray
+      // parity) on the chord toward the nearest domain point.
+      for (int k = 1; k <= 10 && !(r > 0); ++k) {
+        const Eigen::Vector3d q = peak + 0.05 * k * (toward - peak);
+        if (query().inside(q) && query().inside_by_parity(q)) {
+          p = q;
+          r = query().distance(q);
+        }
+      }
       if (r > 0) {
         extra.emplace_back(p, r);
         extra_prong.push_back(static_cast<int>(e));
@@ -776,7 +790,9 @@ const Skeleton& Extractor::skeleton() {
         normalized.V.resize(V_.rows(), 3);
         for (Eigen::Index i = 0; i < V_.rows(); ++i) normalized.V.row(i) = (V_.row(i) - pm.offset) / pm.scale;
         normalized.F = F_;
-        const SurfaceQuery input_surface(normalized);
+        // Millions of input faces take a second or more: polled for cancellation.
+        const SurfaceQuery input_surface(normalized,
+                                         internal::throttled_poll(progress_, "skeleton", 0.97));
         keep_inside(s, input_surface, &moved);
       } else {
         keep_inside(s, query(), &moved);

@@ -27,13 +27,22 @@
 // - Remeshing: skipped when the mesh already has between 1/2.5 and 2.5 times target_faces and
 //   its edge lengths are uniform (coefficient of variation below 0.5): such a mesh is as good a
 //   geodesic domain as a remeshed one, and remeshing costs more than all of stages 1-3.
-#include "union_find.h"
+// - Huge inputs (more than max(8 x target_faces, 150,000) faces) are first reduced to
+//   4 x target_faces by fast_reduce() below, an O(n log n) pass-wise edge collapse without a
+//   priority queue: CGAL's quality edge collapse in remesh_uniform() costs about 30 us per
+//   collapse (23 s of the 35 s on a 1.4M-face mesh) and then only does the last factor of 4.
+//   Meshes under 150,000 faces (every public test mesh) never take this path.
+// - Cancellation: stage 0 polls the progress callback at most every 10 ms (between steps, in
+//   the loops over the input, and from inside CGAL's wrap, collapse and remeshing), so that a
+//   cancel request stops it quickly even on millions of faces.
 #include "dcg/prepare.h"
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -47,8 +56,10 @@
 
 #include "dcg/errors.h"
 #include "dcg/surface_query.h"
+#include "polling.h"
 #include "remesh.h"
 #include "repair.h"
+#include "union_find.h"
 
 namespace dcg {
 namespace {
@@ -70,12 +81,13 @@ struct CellHash {
 // Undirected edges with their incident faces, sorted by key.
 struct EdgeTable {
   std::vector<std::pair<std::uint64_t, int>> half;  // (edge key, face), sorted by key
-  explicit EdgeTable(const Faces& F) {
+  EdgeTable(const Faces& F, const std::function<void()>& poll) {
     half.reserve(F.rows() * 3);
     for (int f = 0; f < F.rows(); ++f) {
+      if ((f & 65535) == 0) poll();
       for (int k = 0; k < 3; ++k) half.emplace_back(edge_key(F(f, k), F(f, (k + 1) % 3)), f);
     }
-    std::sort(half.begin(), half.end());
+    internal::sort_polling(half, poll);
   }
   // Calls fn(begin, end) for each run of equal keys.
   template <class Fn>
@@ -102,16 +114,18 @@ struct Topology {
 
 // Counts edges, borders, non-manifold edges / vertices and components of (V, F); when `orient`
 // is true, also makes the faces' orientation consistent per component and outward (positive
-// signed volume).
-Topology analyze(const Vertices& V, Faces& F, bool orient) {
+// signed volume). `poll` is called every few thousand faces or vertices.
+Topology analyze(const Vertices& V, Faces& F, bool orient, const std::function<void()>& poll) {
   Topology t;
   const int nf = static_cast<int>(F.rows()), nv = static_cast<int>(V.rows());
-  EdgeTable table(F);
+  EdgeTable table(F, poll);
+  std::size_t polled = 0;
   UnionFind faces_uf(nf);
   // Manifold adjacency: face -> up to 3 neighbours over edges with exactly 2 faces.
   std::vector<std::array<int, 3>> adj(nf, {-1, -1, -1});
   std::vector<std::pair<int, int>> border;  // border edges (vertex pairs)
   table.for_each_edge([&](std::size_t b, std::size_t e) {
+    if ((++polled & 16383) == 0) poll();
     ++t.edges;
     const std::size_t n = e - b;
     for (std::size_t i = b + 1; i < e; ++i) faces_uf.unite(table.half[b].second, table.half[i].second);
@@ -179,6 +193,7 @@ Topology analyze(const Vertices& V, Faces& F, bool orient) {
       for (int k = 0; k < 3; ++k) ring[fill[F(f, k)]++] = f;
     std::vector<std::pair<int, int>> corner_edges;  // (other vertex, face)
     for (int v = 0; v < nv; ++v) {
+      if ((v & 8191) == 0) poll();
       const int n = start[v + 1] - start[v];
       if (n == 0) continue;
       corner_edges.clear();
@@ -214,6 +229,7 @@ Topology analyze(const Vertices& V, Faces& F, bool orient) {
     seen[s] = 1;
     queue.assign(1, s);
     for (std::size_t qi = 0; qi < queue.size(); ++qi) {
+      if ((++polled & 16383) == 0) poll();
       const int f = queue[qi];
       for (int slot = 0; slot < 3; ++slot) {
         const int g = adj[f][slot];
@@ -279,6 +295,200 @@ std::string problem_list(const Topology& t) {
   if (!t.orientable) add("a non-orientable surface");
   if (t.components > 1) add(std::to_string(t.components) + " components");
   return s;
+}
+
+// Reports stage 0's progress (`fraction` of the stage, 0..1) through the callback at most every
+// 10 ms; the callback's "stop" throws Cancelled from here. Cheap enough for inner loops.
+class Poller {
+ public:
+  Poller(const Progress& progress, double from, double to)
+      : progress_(progress), from_(from), to_(to) {}
+  void operator()(double fraction) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < std::chrono::milliseconds(10)) return;
+    last_ = now;
+    progress_.report("prepare", from_ + (to_ - from_) * std::clamp(fraction, 0.0, 1.0));
+  }
+  /// The same, for a part [a, b] of the stage: a callable taking the part's own fraction.
+  std::function<void(double)> part(double a, double b) {
+    return [this, a, b](double f) { (*this)(a + (b - a) * f); };
+  }
+
+ private:
+  const Progress& progress_;
+  double from_, to_;
+  std::chrono::steady_clock::time_point last_{};  // the first call always reports
+};
+
+// Fast first reduction of a huge closed manifold (oriented, one or more shells) to about
+// `goal` faces. In passes: take the shorter half of the edges, shortest first, and collapse each
+// to its midpoint unless
+// - an end was moved earlier in the same pass (its edges' lengths are stale),
+// - the link condition fails (the ends share a neighbour besides the two opposite vertices):
+//   the collapse would pinch the surface, so the result stays a closed 2-manifold,
+// - a face around it would turn by more than 60 degrees or become degenerate (no fold-overs).
+// Each pass is O(n log n) with no priority queue (about 1 us per collapse against CGAL's 30);
+// quality comes afterwards from CGAL's collapse and isotropic remeshing, which this only
+// relieves of the bulk. Stops early when a pass collapses nothing.
+Mesh fast_reduce(const Mesh& mesh, int goal, const std::function<void(double)>& poll) {
+  const int nv = static_cast<int>(mesh.V.rows()), nf = static_cast<int>(mesh.F.rows());
+  poll(0);
+  std::vector<Eigen::Vector3d> P(nv);
+  for (int i = 0; i < nv; ++i) P[i] = mesh.V.row(i).transpose();
+  poll(0);
+  std::vector<std::array<int, 3>> T(nf);
+  std::vector<char> face_alive(nf, 1), vertex_alive(nv, 1), moved(nv, 0);
+  std::vector<std::vector<int>> vf(nv);  // vertex -> its alive faces
+  poll(0);
+  {
+    std::vector<int> degree(nv, 0);
+    for (int f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) ++degree[mesh.F(f, k)];
+    for (int v = 0; v < nv; ++v) {
+      if ((v & 65535) == 0) poll(0);
+      vf[v].reserve(degree[v] + 2);
+    }
+  }
+  for (int f = 0; f < nf; ++f) {
+    if ((f & 65535) == 0) poll(0);
+    for (int k = 0; k < 3; ++k) {
+      T[f][k] = mesh.F(f, k);
+      vf[T[f][k]].push_back(f);
+    }
+  }
+  std::vector<int> mark(nv, 0);  // neighbour stamps for the link condition
+  int stamp = 0;
+  int alive_faces = nf;
+  const double cos_limit = 0.5;  // 60 degrees
+  auto normal = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    return Eigen::Vector3d((b - a).cross(c - a));
+  };
+  auto try_collapse = [&](int a, int b) -> bool {
+    // The two faces on edge a-b and their opposite vertices.
+    int shared = 0, opposite[2] = {-1, -1};
+    for (int f : vf[a]) {
+      const auto& t = T[f];
+      if (t[0] != b && t[1] != b && t[2] != b) continue;
+      if (shared == 2) return false;
+      for (int k = 0; k < 3; ++k)
+        if (t[k] != a && t[k] != b) opposite[shared] = t[k];
+      ++shared;
+    }
+    if (shared != 2 || opposite[0] == opposite[1]) return false;
+    // Link condition: the ends' only common neighbours are the two opposite vertices.
+    ++stamp;
+    for (int f : vf[a])
+      for (int v : T[f])
+        if (v != a) mark[v] = stamp;
+    int common = 0;
+    for (int f : vf[b]) {
+      for (int v : T[f]) {
+        if (v != b && mark[v] == stamp) {
+          mark[v] = 0;  // count each common neighbour once
+          ++common;
+        }
+      }
+    }
+    if (common != 2) return false;
+    // No face turns by more than 60 degrees or degenerates.
+    const Eigen::Vector3d m = 0.5 * (P[a] + P[b]);
+    for (int end = 0; end < 2; ++end) {
+      const int v = end == 0 ? a : b;
+      for (int f : vf[v]) {
+        const auto& t = T[f];
+        if ((t[0] == a || t[1] == a || t[2] == a) && (t[0] == b || t[1] == b || t[2] == b)) continue;
+        Eigen::Vector3d q[3] = {P[t[0]], P[t[1]], P[t[2]]};
+        const Eigen::Vector3d n0 = normal(q[0], q[1], q[2]);
+        for (int k = 0; k < 3; ++k)
+          if (t[k] == v) q[k] = m;
+        const Eigen::Vector3d n1 = normal(q[0], q[1], q[2]);
+        const double l0 = n0.norm(), l1 = n1.norm();
+        if (n0.dot(n1) <= cos_limit * l0 * l1) return false;
+      }
+    }
+    // Collapse b into a at the midpoint.
+    P[a] = m;
+    for (int f : vf[b]) {
+      auto& t = T[f];
+      if (t[0] == a || t[1] == a || t[2] == a) {
+        face_alive[f] = 0;
+        --alive_faces;
+        for (int v : t) {
+          if (v == b) continue;
+          auto& list = vf[v];
+          list.erase(std::find(list.begin(), list.end(), f));
+        }
+      } else {
+        for (int& v : t)
+          if (v == b) v = a;
+        vf[a].push_back(f);
+      }
+    }
+    vf[b].clear();
+    vertex_alive[b] = 0;
+    moved[a] = 1;
+    return true;
+  };
+
+  struct Candidate {
+    float length2;
+    int a, b;
+    bool operator<(const Candidate& o) const {
+      return length2 < o.length2 || (length2 == o.length2 && (a < o.a || (a == o.a && b < o.b)));
+    }
+  };
+  std::vector<Candidate> candidates;
+  for (int pass = 0; alive_faces > goal && pass < 64; ++pass) {
+    poll(1.0 - static_cast<double>(alive_faces - goal) / (nf - goal));
+    candidates.clear();
+    for (int f = 0; f < nf; ++f) {
+      if ((f & 65535) == 0) poll(1.0 - static_cast<double>(alive_faces - goal) / (nf - goal));
+      if (!face_alive[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int a = T[f][k], b = T[f][(k + 1) % 3];
+        // Each edge once: its half-edge from the lower index (a closed, consistently oriented
+        // surface has both).
+        if (a < b) candidates.push_back({static_cast<float>((P[a] - P[b]).squaredNorm()), a, b});
+      }
+    }
+    const double done = 1.0 - static_cast<double>(alive_faces - goal) / (nf - goal);
+    poll(done);
+    // The shorter half, sorted: nth_element, then sorted in chunks between polls.
+    const auto half = candidates.begin() + static_cast<std::ptrdiff_t>(candidates.size() / 2);
+    std::nth_element(candidates.begin(), half, candidates.end());
+    poll(done);
+    candidates.resize(candidates.size() / 2);
+    internal::sort_polling(candidates, [&] { poll(done); });
+    std::fill(moved.begin(), moved.end(), 0);
+    int collapsed = 0;
+    for (auto it = candidates.begin(); it != candidates.end() && alive_faces > goal; ++it) {
+      if (((it - candidates.begin()) & 4095) == 0) {
+        poll(1.0 - static_cast<double>(alive_faces - goal) / (nf - goal));
+      }
+      if (!vertex_alive[it->a] || !vertex_alive[it->b] || moved[it->a] || moved[it->b]) continue;
+      if (try_collapse(it->a, it->b)) ++collapsed;
+    }
+    if (collapsed == 0) break;
+  }
+  // Compact.
+  Mesh out;
+  std::vector<int> index(nv, -1);
+  int n = 0;
+  for (int f = 0; f < nf; ++f)
+    if (face_alive[f])
+      for (int v : T[f])
+        if (index[v] < 0) index[v] = n++;
+  out.V.resize(n, 3);
+  for (int v = 0; v < nv; ++v)
+    if (index[v] >= 0) out.V.row(index[v]) = P[v].transpose();
+  out.F.resize(alive_faces, 3);
+  int row = 0;
+  for (int f = 0; f < nf; ++f) {
+    if (!face_alive[f]) continue;
+    for (int k = 0; k < 3; ++k) out.F(row, k) = index[T[f][k]];
+    ++row;
+  }
+  return out;
 }
 
 }  // namespace
@@ -364,7 +574,10 @@ int mesh_genus(const Mesh& mesh) {
   return static_cast<int>(std::max(0L, twice_g / 2));
 }
 
-PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const PrepareOptions& options) {
+PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const PrepareOptions& options,
+                          const Progress& progress, double from, double to) {
+  Poller poll(progress, from, to);
+  poll(0);
   validate_mesh(V_in, F_in);
   if (!(options.weld_tolerance >= 0) || !std::isfinite(options.weld_tolerance)) {
     throw InputError("weld_tolerance must be finite and >= 0");
@@ -384,7 +597,9 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
   }
   out.scale = diag;
   out.offset = 0.5 * (lo + hi);
+  poll(0);
   Vertices Vn = (V_in.rowwise() - out.offset) / diag;
+  poll(0);
 
   // Flat input: every vertex within 1e-9 of the plane of least extent (normalized units).
   {
@@ -397,6 +612,7 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     }
   }
 
+  poll(0.01);
   // Border vertices (on an edge with one face, by index): the only ones that get welded.
   const int nv = static_cast<int>(Vn.rows());
   std::vector<char> on_border(nv, 0);
@@ -404,12 +620,13 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     std::vector<std::uint64_t> keys;
     keys.reserve(F_in.rows() * 3);
     for (Eigen::Index f = 0; f < F_in.rows(); ++f) {
+      if ((f & 65535) == 0) poll(0.01);
       for (int k = 0; k < 3; ++k) {
         const int a = F_in(f, k), b = F_in(f, (k + 1) % 3);
         if (a != b) keys.push_back(edge_key(a, b));
       }
     }
-    std::sort(keys.begin(), keys.end());
+    internal::sort_polling(keys, [&] { poll(0.01); });
     for (std::size_t i = 0; i < keys.size();) {
       std::size_t j = i + 1;
       while (j < keys.size() && keys[j] == keys[i]) ++j;
@@ -420,6 +637,8 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
       i = j;
     }
   }
+
+  poll(0.02);
 
   // Weld.
   std::vector<int> rep_of(nv);
@@ -434,6 +653,7 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
                                          static_cast<std::int64_t>(std::floor(Vn(i, 2) / cell))};
     };
     for (int i = 0; i < nv; ++i) {
+      if ((i & 4095) == 0) poll(0.02 + 0.02 * i / nv);
       rep_of[i] = i;
       if (!on_border[i]) continue;
       const auto c = cell_of(i);
@@ -477,6 +697,7 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     std::unordered_set<std::array<std::int64_t, 3>, CellHash> seen;
     seen.reserve(F_in.rows() * 2);
     for (int f = 0; f < F_in.rows(); ++f) {
+      if ((f & 4095) == 0) poll(0.04 + 0.02 * f / F_in.rows());
       const int a = rep_of[F_in(f, 0)], b = rep_of[F_in(f, 1)], c = rep_of[F_in(f, 2)];
       if (a == b || b == c || a == c) {
         ++rep.dropped_faces;
@@ -516,7 +737,9 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
       for (int k = 0; k < 3; ++k) clean.F(f, k) = index[faces[f][k]];
   }
 
-  const Topology topo = analyze(clean.V, clean.F, true);
+  poll(0.06);
+  const Topology topo = analyze(clean.V, clean.F, true, [&] { poll(0.08); });
+  poll(0.1);
   rep.border_edges = topo.border_edges;
   rep.border_loops = topo.border_loops;
   rep.non_manifold_edges = topo.non_manifold_edges;
@@ -532,7 +755,7 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     }
     double alpha = std::clamp(0.6 * topo.largest_hole, 0.01, 0.1);
     if (topo.border_edges == 0) alpha = 0.01;
-    out.working = internal::alpha_wrap(clean, alpha, alpha / 30.0);
+    out.working = internal::alpha_wrap(clean, alpha, alpha / 30.0, poll.part(0.1, 0.3));
     out.repaired = true;
     out.wrap_alpha = alpha;
   } else {
@@ -561,10 +784,16 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     const bool near = nf >= target / 2.5 && nf <= target * 2.5;
     const bool skip = near && edge_length_variation(out.working.V, out.working.F) < 0.5;
     if (!skip) {
-      out.working = internal::remesh_uniform(out.working, options.target_faces);
+      const int goal = 4 * std::max(options.target_faces, 200);
+      if (nf > std::max(2.0 * goal, 150000.0)) {
+        out.working = fast_reduce(out.working, goal, poll.part(0.3, 0.5));
+      }
+      out.working = internal::remesh_uniform(out.working, options.target_faces,
+                                             poll.part(0.5, 0.85));
       out.remeshed = true;
     }
   }
+  poll(0.85);
   out.genus = mesh_genus(out.working);
 
   // Map every input vertex to the working mesh: onto its own corner when the working mesh is the
@@ -583,34 +812,41 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
           if (corner_face[W.F(f, k)] < 0) corner_face[W.F(f, k)] = 3 * f + k;
     }
     const SurfaceQuery& query = *out.query;
-    tbb::parallel_for(tbb::blocked_range<int>(0, nv, 1024), [&](const tbb::blocked_range<int>& r) {
-      for (int i = r.begin(); i != r.end(); ++i) {
-        const int c = same ? index[rep_of[i]] : -1;
-        if (c >= 0) {
-          out.map_face[i] = corner_face[c] / 3;
-          out.map_barycentric.row(i).setZero();
-          out.map_barycentric(i, corner_face[c] % 3) = 1.0;
-          continue;
+    // In chunks, polling between them (the callback is not called from TBB's workers).
+    constexpr int kChunk = 1 << 15;
+    for (int chunk = 0; chunk < nv; chunk += kChunk) {
+      poll(0.87 + 0.13 * chunk / nv);
+      tbb::parallel_for(tbb::blocked_range<int>(chunk, std::min(nv, chunk + kChunk), 1024),
+                        [&](const tbb::blocked_range<int>& r) {
+        for (int i = r.begin(); i != r.end(); ++i) {
+          const int c = same ? index[rep_of[i]] : -1;
+          if (c >= 0) {
+            out.map_face[i] = corner_face[c] / 3;
+            out.map_barycentric.row(i).setZero();
+            out.map_barycentric(i, corner_face[c] % 3) = 1.0;
+            continue;
+          }
+          int f = 0;
+          const Eigen::Vector3d q = query.closest_point(Vn.row(i).transpose(), &f);
+          const Eigen::Vector3d a = W.V.row(W.F(f, 0)), b = W.V.row(W.F(f, 1)),
+                                cc = W.V.row(W.F(f, 2));
+          const Eigen::Vector3d n = (b - a).cross(cc - a);
+          const double n2 = n.squaredNorm();
+          Eigen::Vector3d l(1.0 / 3, 1.0 / 3, 1.0 / 3);
+          if (n2 > 0) {
+            l[0] = (cc - b).cross(q - b).dot(n) / n2;
+            l[1] = (a - cc).cross(q - cc).dot(n) / n2;
+            l[0] = std::clamp(l[0], 0.0, 1.0);
+            l[1] = std::clamp(l[1], 0.0, 1.0 - l[0]);
+            l[2] = 1.0 - l[0] - l[1];
+          }
+          out.map_face[i] = f;
+          out.map_barycentric.row(i) = l.transpose();
         }
-        int f = 0;
-        const Eigen::Vector3d q = query.closest_point(Vn.row(i).transpose(), &f);
-        const Eigen::Vector3d a = W.V.row(W.F(f, 0)), b = W.V.row(W.F(f, 1)),
-                              cc = W.V.row(W.F(f, 2));
-        const Eigen::Vector3d n = (b - a).cross(cc - a);
-        const double n2 = n.squaredNorm();
-        Eigen::Vector3d l(1.0 / 3, 1.0 / 3, 1.0 / 3);
-        if (n2 > 0) {
-          l[0] = (cc - b).cross(q - b).dot(n) / n2;
-          l[1] = (a - cc).cross(q - cc).dot(n) / n2;
-          l[0] = std::clamp(l[0], 0.0, 1.0);
-          l[1] = std::clamp(l[1], 0.0, 1.0 - l[0]);
-          l[2] = 1.0 - l[0] - l[1];
-        }
-        out.map_face[i] = f;
-        out.map_barycentric.row(i) = l.transpose();
-      }
-    });
+      });
+    }
   }
+  poll(1);
   return out;
 }
 

@@ -24,11 +24,13 @@
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
+#include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include "dcg/errors.h"
 
 namespace dcg::internal {
+namespace {
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 namespace SMS = CGAL::Surface_mesh_simplification;
@@ -36,7 +38,45 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = K::Point_3;
 using SM = CGAL::Surface_mesh<Point>;
 
-Mesh remesh_uniform(const Mesh& mesh, int target_faces) {
+// Cancellation from inside CGAL: the edge collapse calls its visitor for every edge it collects
+// and every collapse it selects; the isotropic remeshing reads its vertex-is-constrained map for
+// every edge it may collapse and every vertex it relaxes or projects. Both call `poll` (which
+// throws Cancelled to stop; the half-made Surface_mesh is then simply dropped). The map always
+// answers "not constrained", like CGAL's default, so the result does not change.
+struct PollingCollapseVisitor : SMS::Edge_collapse_visitor_base<SM> {
+  const std::function<void(double)>* poll = nullptr;
+  double from = 0, to = 1;
+  std::size_t collected = 0;
+  template <class Profile, class Cost>
+  void OnCollected(const Profile&, const Cost&) {
+    if ((++collected & 1023) == 0) (*poll)(from);
+  }
+  template <class Profile, class Cost>
+  void OnSelected(const Profile&, const Cost&, std::size_t initial, std::size_t current) {
+    if ((current & 255) == 0 && initial > 0) {
+      (*poll)(from + (to - from) * (1.0 - static_cast<double>(current) / initial));
+    }
+  }
+};
+
+struct PollingNotConstrained {
+  using key_type = SM::Vertex_index;
+  using value_type = bool;
+  using reference = bool;
+  using category = boost::readable_property_map_tag;
+  const std::function<void(double)>* poll = nullptr;
+  double fraction = 0;
+  friend bool get(const PollingNotConstrained& map, key_type) {
+    (*map.poll)(map.fraction);
+    return false;
+  }
+};
+
+}  // namespace
+
+Mesh remesh_uniform(const Mesh& mesh, int target_faces,
+                    const std::function<void(double)>& poll_in) {
+  const std::function<void(double)> poll = poll_in ? poll_in : [](double) {};
   SM sm;
   std::vector<SM::Vertex_index> vs;
   vs.reserve(mesh.V.rows());
@@ -59,15 +99,27 @@ Mesh remesh_uniform(const Mesh& mesh, int target_faces) {
                             diagonal / 20.0);
   if (static_cast<double>(sm.number_of_faces()) > 2.0 * target_faces) {
     SMS::Count_stop_predicate<SM> stop(static_cast<std::size_t>(1.5 * target_faces));
+    PollingCollapseVisitor visitor;
+    visitor.poll = &poll;
+    visitor.from = 0.0;
+    visitor.to = 0.6;
     SMS::edge_collapse(sm, stop,
                        CGAL::parameters::get_cost(SMS::Edge_length_cost<SM>())
                            .get_placement(SMS::Bounded_normal_change_placement<
-                                          SMS::Midpoint_placement<SM>>()));
+                                          SMS::Midpoint_placement<SM>>())
+                           .visitor(visitor));
     sm.collect_garbage();
   }
+  poll(0.6);
+  PollingNotConstrained not_constrained;
+  not_constrained.poll = &poll;
+  not_constrained.fraction = 0.8;
   PMP::isotropic_remeshing(faces(sm), L, sm,
-                           CGAL::parameters::number_of_iterations(3).number_of_relaxation_steps(1));
+                           CGAL::parameters::number_of_iterations(3)
+                               .number_of_relaxation_steps(1)
+                               .vertex_is_constrained_map(not_constrained));
   sm.collect_garbage();
+  poll(1.0);
   Mesh out;
   out.V.resize(sm.number_of_vertices(), 3);
   std::vector<int> index(sm.num_vertices(), -1);

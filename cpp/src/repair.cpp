@@ -12,8 +12,26 @@
 #include "dcg/errors.h"
 
 namespace dcg::internal {
+namespace {
 
-Mesh alpha_wrap(const Mesh& soup, double alpha, double offset) {
+// Calls `poll` before each facet the flood fill treats (the fraction is unknown: reported as 0
+// until the fill ends).
+struct PollingVisitor : CGAL::Alpha_wraps_3::internal::Wrapping_default_visitor {
+  const std::function<void(double)>* poll = nullptr;
+  template <typename Wrapper, typename Gate>
+  void before_facet_treatment(const Wrapper&, const Gate&) {
+    if (*poll) (*poll)(0.0);
+  }
+  template <typename Wrapper>
+  void on_flood_fill_end(const Wrapper&) {
+    if (*poll) (*poll)(0.9);
+  }
+};
+
+}  // namespace
+
+Mesh alpha_wrap(const Mesh& soup, double alpha, double offset,
+                const std::function<void(double)>& poll) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   using Point = K::Point_3;
   std::vector<Point> points;
@@ -26,7 +44,11 @@ Mesh alpha_wrap(const Mesh& soup, double alpha, double offset) {
                      static_cast<std::size_t>(soup.F(f, 2))});
   }
   CGAL::Surface_mesh<Point> wrap;
-  CGAL::alpha_wrap_3(points, faces, alpha, offset, wrap);
+  PollingVisitor visitor;
+  visitor.poll = &poll;
+  CGAL::alpha_wrap_3(points, faces, alpha, offset, wrap, CGAL::parameters::default_values(),
+                     CGAL::parameters::visitor(visitor));
+  if (poll) poll(1.0);
   if (wrap.number_of_faces() < 4) {
     throw InputError("repair failed: the alpha wrap (alpha " + std::to_string(alpha) +
                      ") of the mesh is empty");

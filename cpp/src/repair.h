@@ -2,6 +2,8 @@
 // translation unit (repair.cpp) because it takes ~40 s to compile.
 #pragma once
 
+#include <functional>
+
 #include "dcg/types.h"
 
 namespace dcg::internal {
@@ -9,6 +11,9 @@ namespace dcg::internal {
 /// CGAL::alpha_wrap_3 of the triangle soup (V, F): a closed, oriented 2-manifold around it.
 /// `alpha` (ball radius) and `offset` (distance of the wrap from the input) are in the units of V.
 /// Throws InputError when the wrap fails or comes back empty.
-Mesh alpha_wrap(const Mesh& soup, double alpha, double offset);
+/// `poll` (if set) is called often during the wrap's flood fill with a rough fraction done; it
+/// may throw (Cancelled) to stop.
+Mesh alpha_wrap(const Mesh& soup, double alpha, double offset,
+                const std::function<void(double)>& poll = {});
 
 }  // namespace dcg::internal

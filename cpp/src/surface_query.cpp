@@ -33,6 +33,7 @@
 
 #include "dcg/errors.h"
 #include "embree_scene.h"
+#include "polling.h"
 
 namespace dcg {
 namespace {
@@ -255,9 +256,13 @@ struct SurfaceQuery::Impl {
   }
 };
 
-SurfaceQuery::SurfaceQuery(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+SurfaceQuery::SurfaceQuery(const Mesh& mesh) : SurfaceQuery(mesh, std::function<void()>()) {}
+
+SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
+    : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.mesh = mesh;
+  if (poll) poll();
   const auto& V = m.mesh.V;
   const auto& F = m.mesh.F;
   const int nv = static_cast<int>(V.rows()), nf = static_cast<int>(F.rows());
@@ -268,13 +273,28 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
   if (!(m.diag > 0) || !std::isfinite(m.diag)) m.diag = 1.0;
   m.center = 0.5 * (lo + hi);
   m.margin = 1e-5 * m.diag;
-  m.face_normal.resize(nf);
-  m.vertex_normal.assign(nv, Eigen::Vector3d::Zero());
-  m.edge_normal.resize(nf);
+  // Large arrays are filled in chunks between polls: on a million faces, first touching their
+  // memory alone takes a good part of a second.
+  constexpr int kChunk = 1 << 16;
+  m.vertex_normal.reserve(nv);
+  for (int v = 0; v < nv; v += kChunk) {
+    if (poll) poll();
+    m.vertex_normal.resize(std::min(nv, v + kChunk), Eigen::Vector3d::Zero());
+  }
+  m.face_normal.reserve(nf);
+  m.edge_normal.reserve(nf);
+  for (int f = 0; f < nf; f += kChunk) {
+    if (poll) poll();
+    m.face_normal.resize(std::min(nf, f + kChunk), Eigen::Vector3d::Zero());
+    m.edge_normal.resize(std::min(nf, f + kChunk),
+                         {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+  }
 
   // Edge pseudo-normals: the sum of the normals of the faces on each edge (sorted half-edges).
-  std::vector<std::pair<std::uint64_t, int>> half(3 * static_cast<std::size_t>(nf));
+  std::vector<std::pair<std::uint64_t, int>> half;
+  half.reserve(3 * static_cast<std::size_t>(nf));
   for (int f = 0; f < nf; ++f) {
+    if (poll && (f & 16383) == 0) poll();
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
@@ -288,11 +308,13 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
       m.vertex_normal[F(f, k)] += angle * m.face_normal[f];
       auto i = static_cast<std::uint32_t>(F(f, k)), j = static_cast<std::uint32_t>(F(f, (k + 1) % 3));
       if (i > j) std::swap(i, j);
-      half[3 * f + k] = {(static_cast<std::uint64_t>(i) << 32) | j, 3 * f + k};
+      half.emplace_back((static_cast<std::uint64_t>(i) << 32) | j, 3 * f + k);
     }
   }
-  std::sort(half.begin(), half.end());
+  internal::sort_polling(half, poll);
+  std::size_t edges_seen = 0;
   for (std::size_t i = 0; i < half.size();) {
+    if (poll && (++edges_seen & 32767) == 0) poll();
     std::size_t j = i;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (; j < half.size() && half[j].first == half[i].first; ++j) sum += m.face_normal[half[j].second / 3];
@@ -300,7 +322,7 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
     i = j;
   }
 
-  m.scene = internal::triangle_scene(V, F, m.center.data());
+  m.scene = internal::triangle_scene(V, F, m.center.data(), poll);
 }
 
 SurfaceQuery::~SurfaceQuery() = default;

@@ -85,7 +85,8 @@ std::vector<Eigen::Vector3d> surface_candidates(const Mesh& mesh, int count, uns
 }
 
 // Farthest-point sampling of `k` points among `pts` (Euclidean), first one chosen by `seed`.
-std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k, unsigned seed) {
+std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k, unsigned seed,
+                                 const std::function<void()>& poll) {
   const int n = static_cast<int>(pts.size());
   if (k >= n) {
     std::vector<int> all(n);
@@ -135,6 +136,7 @@ std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k,
   int next = static_cast<int>(rng() % static_cast<unsigned>(n));
   double radius2 = std::numeric_limits<double>::infinity();
   while (static_cast<int>(chosen.size()) < k) {
+    if (poll && (chosen.size() & 63) == 0) poll();
     chosen.push_back(next);
     const Eigen::Vector3d s = pts[next];
     d2[next] = 0;
@@ -173,7 +175,8 @@ std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k,
 }  // namespace
 
 Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
-                            const VoronoiBallsOptions& options) {
+                            const VoronoiBallsOptions& options,
+                            const std::function<void()>& poll) {
   if (options.samples < 4) {
     throw InputError("samples must be at least 4, got " + std::to_string(options.samples));
   }
@@ -181,12 +184,14 @@ Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
   std::vector<int> candidate_face;
   const std::vector<Eigen::Vector3d> candidates =
       surface_candidates(mesh, 6 * options.samples, options.seed, candidate_face);
-  const std::vector<int> picked = farthest_points(candidates, options.samples, options.seed);
+  const std::vector<int> picked = farthest_points(candidates, options.samples, options.seed, poll);
 
   std::vector<std::pair<Delaunay::Point, int>> points;
   points.reserve(picked.size());
   for (int i : picked) points.emplace_back(Delaunay::Point(candidates[i].x(), candidates[i].y(), candidates[i].z()), i);
+  if (poll) poll();
   Delaunay dt(points.begin(), points.end());
+  if (poll) poll();
 
   const Eigen::RowVector3d lo = mesh.V.colwise().minCoeff(), hi = mesh.V.colwise().maxCoeff();
   std::vector<Eigen::Vector3d> centers;
@@ -204,14 +209,19 @@ Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
     hint.push_back(c->vertex(0)->info());
   }
   std::vector<double> radius(centers.size(), -1.0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, centers.size(), 256),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const double sd = query.signed_distance(centers[i], candidates[hint[i]],
-                                                                candidate_face[hint[i]]);
-                        if (sd < 0) radius[i] = -sd;
-                      }
-                    });
+  // In chunks, polling between them (never from TBB's workers).
+  constexpr std::size_t kChunk = 4096;
+  for (std::size_t chunk = 0; chunk < centers.size(); chunk += kChunk) {
+    if (poll) poll();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(chunk, std::min(centers.size(), chunk + kChunk), 256),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          const double sd = query.signed_distance(centers[i], candidates[hint[i]],
+                                                                  candidate_face[hint[i]]);
+                          if (sd < 0) radius[i] = -sd;
+                        }
+                      });
+  }
   std::size_t kept = 0;
   for (double r : radius)
     if (r > 0) ++kept;

@@ -465,50 +465,57 @@ SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
   Eigen::MatrixXi top_bone = Eigen::MatrixXi::Constant(n_in, keep, -1);
   Eigen::MatrixXd top_value = Eigen::MatrixXd::Zero(n_in, keep);
   std::vector<char> fallback(n_in, 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, n_in, 512), [&](const tbb::blocked_range<int>& r) {
-    Eigen::RowVectorXd row(nb);
-    std::vector<int> order(nb);
-    for (int i = r.begin(); i != r.end(); ++i) {
-      const int f = prepared.map_face[i];
-      row.setZero();
-      for (int c = 0; c < 3; ++c) row += prepared.map_barycentric(i, c) * W.row(working.F(f, c));
-      std::iota(order.begin(), order.end(), 0);
-      std::partial_sort(order.begin(), order.begin() + keep, order.end(),
-                        [&](int a, int b) { return row[a] > row[b] || (row[a] == row[b] && a < b); });
-      const double best = row[order[0]];
-      if (!(best > 0)) {
-        // Nothing reached this vertex (not expected): its nearest bone, through the volume.
-        fallback[i] = 1;
-        const Eigen::Vector3d p =
-            ((working.V.row(working.F(f, 0)) * prepared.map_barycentric(i, 0) +
-              working.V.row(working.F(f, 1)) * prepared.map_barycentric(i, 1) +
-              working.V.row(working.F(f, 2)) * prepared.map_barycentric(i, 2)))
-                .transpose();
-        int nearest = 0;
-        double nearest_d = std::numeric_limits<double>::infinity();
-        for (int b = 0; b < nb; ++b) {
-          const double d = point_segment_distance(p, normalized.heads.row(b).transpose(),
-                                                  normalized.tails.row(b).transpose());
-          if (d < nearest_d) nearest_d = d, nearest = b;
+  // In chunks, with a cancellation poll between them (the callback is not called from TBB's
+  // workers): a million input vertices take about a second.
+  constexpr int kChunk = 1 << 15;
+  for (int chunk = 0; chunk < n_in; chunk += kChunk) {
+    progress.report("weights", at(0.9 + 0.1 * chunk / n_in));
+    tbb::parallel_for(tbb::blocked_range<int>(chunk, std::min(n_in, chunk + kChunk), 512),
+                      [&](const tbb::blocked_range<int>& r) {
+      Eigen::RowVectorXd row(nb);
+      std::vector<int> order(nb);
+      for (int i = r.begin(); i != r.end(); ++i) {
+        const int f = prepared.map_face[i];
+        row.setZero();
+        for (int c = 0; c < 3; ++c) row += prepared.map_barycentric(i, c) * W.row(working.F(f, c));
+        std::iota(order.begin(), order.end(), 0);
+        std::partial_sort(order.begin(), order.begin() + keep, order.end(),
+                          [&](int a, int b) { return row[a] > row[b] || (row[a] == row[b] && a < b); });
+        const double best = row[order[0]];
+        if (!(best > 0)) {
+          // Nothing reached this vertex (not expected): its nearest bone, through the volume.
+          fallback[i] = 1;
+          const Eigen::Vector3d p =
+              ((working.V.row(working.F(f, 0)) * prepared.map_barycentric(i, 0) +
+                working.V.row(working.F(f, 1)) * prepared.map_barycentric(i, 1) +
+                working.V.row(working.F(f, 2)) * prepared.map_barycentric(i, 2)))
+                  .transpose();
+          int nearest = 0;
+          double nearest_d = std::numeric_limits<double>::infinity();
+          for (int b = 0; b < nb; ++b) {
+            const double d = point_segment_distance(p, normalized.heads.row(b).transpose(),
+                                                    normalized.tails.row(b).transpose());
+            if (d < nearest_d) nearest_d = d, nearest = b;
+          }
+          top_bone(i, 0) = nearest;
+          top_value(i, 0) = 1.0;
+          continue;
         }
-        top_bone(i, 0) = nearest;
-        top_value(i, 0) = 1.0;
-        continue;
+        // The strongest bone always; the others faded out below min_weight (see weights.h).
+        const double m = options.min_weight;
+        double sum = 0;
+        for (int k = 0; k < keep; ++k) {
+          double value = row[order[k]];
+          if (k > 0 && value < m) value = value < 0.5 * m ? 0.0 : (value - 0.5 * m) / (0.5 * m) * m;
+          if (!(value > 0)) break;
+          top_bone(i, k) = order[k];
+          top_value(i, k) = value;
+          sum += value;
+        }
+        top_value.row(i) /= sum;
       }
-      // The strongest bone always; the others faded out below min_weight (see weights.h).
-      const double m = options.min_weight;
-      double sum = 0;
-      for (int k = 0; k < keep; ++k) {
-        double value = row[order[k]];
-        if (k > 0 && value < m) value = value < 0.5 * m ? 0.0 : (value - 0.5 * m) / (0.5 * m) * m;
-        if (!(value > 0)) break;
-        top_bone(i, k) = order[k];
-        top_value(i, k) = value;
-        sum += value;
-      }
-      top_value.row(i) /= sum;
-    }
-  });
+    });
+  }
   out.fallback_vertices = static_cast<int>(std::count(fallback.begin(), fallback.end(), 1));
 
   // Compact into triplets (by vertex, then by decreasing weight).
@@ -544,7 +551,7 @@ SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones&
   const auto start = Clock::now();
   const Progress progress(std::move(callback));
   progress.report("prepare", 0.0);
-  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare);
+  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare, progress, 0.0, 0.5);
   const double prepare_seconds = seconds_since(start);
   SkinWeights out = skin_weights(prepared, bones, options, progress, 0.5, 1.0);
   out.timings.insert(out.timings.begin(), {"prepare", prepare_seconds});

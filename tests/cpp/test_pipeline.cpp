@@ -1,13 +1,20 @@
 // dcg/pipeline.h: the option table and validation, and the whole pipeline on shipped meshes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "dcg/errors.h"
 #include "dcg/io.h"
 #include "dcg/pipeline.h"
 #include "dcg/surface_query.h"
+#include "shapes.h"
 
 namespace {
 
@@ -98,6 +105,135 @@ TEST(Pipeline, ProgressCallbackCancels) {
   dcg::Extractor extractor(mesh.V, mesh.F, {}, [](const std::string&, double) { return false; });
   EXPECT_THROW(extractor.skeleton(), dcg::Cancelled);
 }
+
+// Cancel latency (issue #7): "cancelling (the progress callback returning false, Esc in Blender)
+// stops within 0.5 s and leaves nothing half-made". One extractor is cancelled again and again,
+// resuming after each cancel: at the first call of every stage (its boundary), half the stage's
+// reference duration after the resume (a wall-clock request, answered at the next poll) and at
+// the middle call of the stage (mid-stage polls). Each time, the time from the request (the
+// call that returned false, or the moment the delay passed) to the Cancelled exception is under
+// 0.5 s; at the end the extractor's skeleton equals an uncancelled run's. ("Public" in the names
+// keeps them out of the sanitizer run, whose slowdown would make the timing meaningless.)
+using Clock = std::chrono::steady_clock;
+
+double seconds_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+struct CancelProbe {
+  // One request at a time: cancel at the `call`-th call with stage `stage` since arming
+  // (call >= 1), or at the first call after `delay` seconds from arming (delay >= 0).
+  std::string stage;
+  int call = 0;
+  double delay = -1;
+  Clock::time_point armed_at, requested_at;
+  bool requested = false, armed = false;
+  std::map<std::string, int> seen;
+
+  void arm_at_call(const std::string& s, int k) {
+    *this = CancelProbe();
+    stage = s;
+    call = k;
+    armed = true;
+    armed_at = Clock::now();
+  }
+  void arm_after(double seconds) {
+    *this = CancelProbe();
+    delay = seconds;
+    armed = true;
+    armed_at = Clock::now();
+  }
+  void disarm() { *this = CancelProbe(); }
+  bool operator()(const std::string& s, double) {
+    if (!armed) return true;
+    const Clock::time_point now = Clock::now();
+    if (delay >= 0) {
+      if (seconds_between(armed_at, now) < delay) return true;
+      requested_at = armed_at + std::chrono::duration_cast<Clock::duration>(
+                                    std::chrono::duration<double>(delay));
+    } else {
+      if (s != stage || ++seen[s] < call) return true;
+      requested_at = now;
+    }
+    requested = true;
+    armed = false;
+    return false;
+  }
+};
+
+struct StageCalls {
+  std::vector<std::string> order;         // stages in the order of their first call
+  std::map<std::string, int> calls;       // progress calls per stage
+  std::map<std::string, double> seconds;  // from the stage's first call to the next stage's
+};
+
+void expect_cancel_latency(const std::string& name, double max_seconds = 0.5) {
+  const std::string path = dcg::test::meshes_dir() + "/" + name;
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found (set DCG_MESHES)";
+  const dcg::Mesh mesh = dcg::read_mesh(path);
+
+  // Reference run: the stages, their calls and durations.
+  StageCalls ref;
+  Clock::time_point stage_start = Clock::now();
+  const dcg::ProgressCallback record = [&](const std::string& s, double) {
+    const Clock::time_point now = Clock::now();
+    if (ref.calls.count(s) == 0) {
+      if (!ref.order.empty()) ref.seconds[ref.order.back()] = seconds_between(stage_start, now);
+      ref.order.push_back(s);
+      stage_start = now;
+    }
+    ++ref.calls[s];
+    return true;
+  };
+  dcg::Extractor reference(mesh.V, mesh.F, {}, record);
+  const dcg::Skeleton expected = reference.skeleton();
+
+  CancelProbe probe;
+  dcg::Extractor extractor(mesh.V, mesh.F, {},
+                           [&probe](const std::string& s, double f) { return probe(s, f); });
+  std::map<std::string, double> worst;
+  int cancels = 0;
+  auto run_expecting_cancel = [&](const std::string& what) {
+    try {
+      extractor.skeleton();
+      ADD_FAILURE() << name << ": not cancelled (" << what << ")";
+    } catch (const dcg::Cancelled&) {
+      const double latency = seconds_between(probe.requested_at, Clock::now());
+      ASSERT_TRUE(probe.requested) << what;
+      EXPECT_LT(latency, max_seconds) << name << ": " << what;
+      worst[what.substr(0, what.find(' '))] = std::max(worst[what.substr(0, what.find(' '))], latency);
+      ++cancels;
+    }
+  };
+  for (const std::string& stage : ref.order) {
+    if (stage == "done") continue;
+    probe.arm_at_call(stage, 1);
+    run_expecting_cancel(stage + " at its first call");
+    const double duration = ref.seconds.count(stage) ? ref.seconds[stage] : 0.0;
+    if (duration > 0.02) {
+      probe.arm_after(0.5 * duration);
+      run_expecting_cancel(stage + " after " + std::to_string(0.5 * duration) + " s");
+    }
+    if (ref.calls[stage] > 2) {
+      probe.arm_at_call(stage, ref.calls[stage] / 2);
+      run_expecting_cancel(stage + " at call " + std::to_string(ref.calls[stage] / 2));
+    }
+  }
+  probe.disarm();
+  const dcg::Skeleton& resumed = extractor.skeleton();
+  EXPECT_GE(cancels, 8);
+  EXPECT_EQ(resumed.method, expected.method);
+  EXPECT_EQ(resumed.positions, expected.positions) << name << ": a cancel left something half-made";
+  EXPECT_EQ(resumed.links, expected.links);
+  EXPECT_EQ(resumed.kinds, expected.kinds);
+  std::string report;
+  for (const auto& [stage, seconds] : worst) report += " " + stage + " " + std::to_string(seconds);
+  std::printf("[ cancel latency, %s, worst per stage (s):%s ]\n", name.c_str(), report.c_str());
+}
+
+TEST(Pipeline, PublicHorseCancelStopsWithinHalfASecondAndResumesWhole) { expect_cancel_latency("horse.ply"); }
+
+TEST(Pipeline, PublicHandCancelStopsWithinHalfASecondAndResumesWhole) { expect_cancel_latency("hand.obj"); }
 
 TEST(Pipeline, SameInputSameSkeleton) {
   const dcg::Mesh mesh = dcg::read_mesh(repo_file("data/meshes/torus.off"));

@@ -2,11 +2,13 @@
 // remeshing, normalization, genus and the map back to the input vertices.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "dcg/errors.h"
 #include "dcg/io.h"
@@ -179,6 +181,46 @@ TEST(Prepare, RemeshingReachesAboutTheTargetAndMapsNearby) {
   EXPECT_GT(small.working.F.rows(), 4000);
   EXPECT_LT(small.working.F.rows(), 16000);
   EXPECT_TRUE(test::is_closed_oriented_manifold(small.working));
+}
+
+TEST(Prepare, HugeInputIsReducedFastIntoAClosedManifoldWithACompleteMap) {
+  // 160,000 faces: above the 150,000 where stage 0 first reduces by its pass-wise edge collapse
+  // (down to 4 x target_faces) before CGAL's quality collapse and the remeshing.
+  const Mesh big = test::torus(1.0, 0.35, 400, 200);
+  dcg::PrepareOptions o;
+  o.target_faces = 5000;
+  std::vector<double> fractions;
+  const dcg::Progress progress([&](const std::string& stage, double f) {
+    EXPECT_EQ(stage, "prepare");
+    fractions.push_back(f);
+    return true;
+  });
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(big.V, big.F, o, progress, 0.0, 1.0);
+  EXPECT_TRUE(pm.remeshed);
+  EXPECT_GT(pm.working.F.rows(), 2500);
+  EXPECT_LT(pm.working.F.rows(), 10000);
+  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+  EXPECT_EQ(pm.genus, 1);
+  ASSERT_EQ(pm.map_face.size(), big.V.rows());
+  double worst = 0;
+  for (Eigen::Index i = 0; i < big.V.rows(); ++i) {
+    ASSERT_GE(pm.map_face[i], 0);
+    ASSERT_LT(pm.map_face[i], pm.working.F.rows());
+    Eigen::RowVector3d p = Eigen::RowVector3d::Zero();
+    for (int k = 0; k < 3; ++k) p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
+    worst = std::max(worst, (pm.to_input(p) - big.V.row(i)).norm() / pm.scale);
+  }
+  EXPECT_LT(worst, 0.01);
+  // Polled all along (at most every 10 ms), with fractions that never go back.
+  EXPECT_GT(fractions.size(), 5u);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_LE(fractions.back(), 1.0);
+  // A cancel request in the middle stops it.
+  int calls = 0;
+  const int stop_at = static_cast<int>(fractions.size()) / 2;
+  const dcg::Progress cancel([&](const std::string&, double) { return ++calls < stop_at; });
+  EXPECT_THROW(dcg::prepare_mesh(big.V, big.F, o, cancel, 0.0, 1.0), dcg::Cancelled);
+  EXPECT_EQ(calls, stop_at);
 }
 
 // --- welding -------------------------------------------------------------------------------------

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "dcg/progress.h"
 #include "dcg/types.h"
 
 namespace dcg {
@@ -76,7 +77,11 @@ void validate_mesh(const Vertices& V, const Faces& F);
 /// vertices all lie in one plane, or that has fewer than 4 faces left after dropping degenerate
 /// ones), or when the mesh is not a single closed manifold and options.repair is Repair::None
 /// (the message gives border edges and loops, non-manifold edges and vertices, components).
-PreparedMesh prepare_mesh(const Vertices& V, const Faces& F, const PrepareOptions& options = {});
+/// `progress` gets stage "prepare" with fractions from `from` to `to` of the caller's whole run,
+/// at most every 10 ms (also from inside the CGAL steps); Cancelled when it asks to stop.
+PreparedMesh prepare_mesh(const Vertices& V, const Faces& F, const PrepareOptions& options = {},
+                          const Progress& progress = Progress(), double from = 0,
+                          double to = 0);
 
 /// Genus from the Euler characteristic, summed over the connected components of (V, F):
 /// V - E + F = 2 - 2g per closed component.

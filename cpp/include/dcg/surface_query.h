@@ -5,6 +5,7 @@
 // Embree's float precision (about 1e-7 of the mesh's size).
 #pragma once
 
+#include <functional>
 #include <memory>
 
 #include <Eigen/Core>
@@ -18,6 +19,9 @@ class SurfaceQuery {
   /// `mesh` must be closed and oriented for the inside tests to mean anything. InputError when
   /// it has no faces or an index out of range.
   explicit SurfaceQuery(const Mesh& mesh);
+  /// The same, calling `poll` every few milliseconds while it builds (for meshes of millions of
+  /// faces); an exception from `poll` (Cancelled) stops the build and propagates.
+  SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll);
   ~SurfaceQuery();
   SurfaceQuery(SurfaceQuery&&) noexcept;
   SurfaceQuery& operator=(SurfaceQuery&&) noexcept;

@@ -2,6 +2,8 @@
 // the Voronoi vertices (Delaunay circumcenters) of surface samples.
 #pragma once
 
+#include <functional>
+
 #include "dcg/types.h"
 
 namespace dcg {
@@ -18,7 +20,10 @@ struct VoronoiBallsOptions {
 /// Candidate balls: the circumcenters of the finite Delaunay cells of the samples that lie
 /// strictly inside `mesh`, each with radius = distance to the surface (not to the samples).
 /// `mesh` is the closed working mesh of stage 0; `query` is a SurfaceQuery built on it.
+/// `poll` (if set) is called every few milliseconds from this thread; an exception it throws
+/// (Cancelled) stops the stage.
 Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
-                            const VoronoiBallsOptions& options = {});
+                            const VoronoiBallsOptions& options = {},
+                            const std::function<void()>& poll = {});
 
 }  // namespace dcg
