@@ -69,10 +69,12 @@ def main(argv=None):
             print("bench_big: no big mesh, row skipped", file=sys.stderr)
             return 0
     print(f"bench_big: {args.mesh}", file=sys.stderr)
+    load_before = os.getloadavg()  # the machine may be shared: timings mean little without it
     start = time.perf_counter()
     child = subprocess.run([sys.executable, "-c", CHILD, str(args.mesh)], stdout=subprocess.PIPE,
                            text=True, env=os.environ)
     wall = time.perf_counter() - start
+    load_after = os.getloadavg()
     peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0  # KiB on Linux
     if child.returncode != 0:
         print(f"bench_big: the pipeline failed (exit {child.returncode})", file=sys.stderr)
@@ -90,9 +92,10 @@ def main(argv=None):
     stages = ", ".join(f"{name} {s:.2f}" for name, s in r["stages"])
     slowest, slowest_s = max(r["stages"], key=lambda item: item[1])
     why = (f"Slowest stage: {slowest}, {slowest_s:.2f} s ({100 * slowest_s / seconds:.0f} % of "
-           "the total)" + (" (stage 0: welding, checks, the reduction to target_faces by edge "
-                          "collapse and isotropic remeshing, and the map back to every input "
-                          "vertex)" if slowest == "prepare" else "") + ".")
+           "the total)" + (" (stage 0: welding, checks, the reduction to target_faces by a fast "
+                          "pass-wise edge collapse, then CGAL's edge collapse and isotropic "
+                          "remeshing, and the map back to every input vertex)"
+                          if slowest == "prepare" else "") + ".")
     lines = [
         "# Scale: a ~1M-face mesh through the whole pipeline",
         "",
@@ -109,6 +112,10 @@ def main(argv=None):
         "",
         f"Stages (s): {stages}. Method: {r['method']}. Child wall time {wall:.1f} s (with "
         "interpreter start).",
+        "",
+        f"Load average (1, 5, 15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; "
+        f"after: {', '.join(f'{x:.2f}' for x in load_after)} (on {os.cpu_count()} cores: a "
+        "load above that means other work shared the machine and the times are inflated).",
         "",
         why,
         "",
