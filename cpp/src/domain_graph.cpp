@@ -586,7 +586,11 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
             gap = head + inner + tail;
           }
           (void)length;
-          if (gap >= 0) continue;
+          // Directly linked junctions (their domain surfaces touch: no body part between them)
+          // are one junction while their balls are less than a ball apart; across a chain only
+          // overlapping balls merge.
+          const double reach = chain.empty() ? std::min(radii[a], radii[b]) : 0.0;
+          if (gap >= reach) continue;
           // Only across a bridge: merging the two ends of a cycle would fold it.
           std::vector<char> seen(graph.alive.size(), 0);
           for (int c : chain) seen[c] = 1;

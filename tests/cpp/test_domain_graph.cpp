@@ -3,9 +3,11 @@
 // on hand-placed points in a torus, a capsule and a sphere.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <set>
+#include <vector>
 
 #include "dcg/domain_graph.h"
 #include "dcg/errors.h"
@@ -120,6 +122,60 @@ TEST(DomainGraph, CapsuleChainKeepsItsEndsAndPrunesTwigs) {
   // The off-axis points were pruned or contracted into the chain; every point has a node.
   for (Eigen::Index i = 0; i < p.rows(); ++i) EXPECT_GE(g.node_of_point[i], 0) << i;
   EXPECT_GT(g.pruned + g.contracted, 0);
+}
+
+// An "H": a torso along z (radius 0.5, half length h) with two arms (radius 0.25, along +-x) at
+// each end of it. Hand-placed points: the two junctions where the arms meet the torso, a point
+// half way along each arm, an end point near each tip and, when `middle`, one torso point
+// between the junctions.
+struct HShape {
+  Scene scene;
+  dcg::Points points;
+  Eigen::VectorXi prong;
+  HShape(double h, bool middle)
+      : scene(test::marching_tetrahedra(
+            [h](const Eigen::Vector3d& q) {
+              auto segment = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r) {
+                const double t = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+                return (q - (a + t * (b - a))).norm() - r;
+              };
+              double phi = segment({0, 0, -h}, {0, 0, h}, 0.5);
+              for (double z : {-h, h})
+                for (double x : {-2.5, 2.5}) phi = std::min(phi, segment({0, 0, z}, {x, 0, z}, 0.25));
+              return phi;
+            },
+            -3.2, 3.2, 64)) {
+    std::vector<Eigen::Vector3d> p = {{0, 0, h}, {0, 0, -h}};
+    for (double z : {-h, h})
+      for (double x : {-1.3, 1.3}) p.emplace_back(x, 0, z);
+    for (double z : {-h, h})
+      for (double x : {-2.5, 2.5}) p.emplace_back(x, 0, z);
+    if (middle) p.emplace_back(0, 0, 0);
+    points.resize(static_cast<Eigen::Index>(p.size()), 3);
+    for (std::size_t i = 0; i < p.size(); ++i) points.row(static_cast<Eigen::Index>(i)) = p[i].transpose();
+    prong = Eigen::VectorXi::Constant(points.rows(), -1);
+    for (int k = 0; k < 4; ++k) prong[6 + k] = k;
+  }
+  int joints() const {
+    const dcg::DomainGraph g = dcg::compute_domain_graph(scene.mesh, *scene.field, points,
+                                                         scene.radii(points), prong, 0);
+    int ends = 0, joints = 0;
+    for (std::size_t i = 0; i < g.nodes.size(); ++i) {
+      ends += g.kinds[i] == dcg::NodeKind::End;
+      joints += g.kinds[i] == dcg::NodeKind::Joint;
+    }
+    EXPECT_EQ(ends, 4);
+    EXPECT_EQ(g.cycles, 0);
+    return joints;
+  }
+};
+
+TEST(DomainGraph, JunctionsLessThanABallApartAreOne) {
+  // Junction balls (radius ~0.5) 0.3 apart, linked directly: one junction, although the balls
+  // do not overlap (a squat torso: which of the two a limb hangs from is a matter of noise).
+  EXPECT_EQ(HShape(0.65, false).joints(), 1);
+  // A torso long enough to hold a point of its own between them: two junctions.
+  EXPECT_EQ(HShape(1.5, true).joints(), 2);
 }
 
 TEST(DomainGraph, BadInputIsRefused) {

@@ -40,8 +40,15 @@
 //   - two junctions (degree >= 3) whose balls overlap along the chain (over degree-2 points)
 //     between them (the chain is shorter than the sum of their radii) are one junction: the
 //     chain and the smaller junction merge into the larger one (never across a cycle); a merged
-//     junction is the union of its balls for the next test. Which of two nearby junctions a limb
-//     hangs from changes under small perturbations; their union does not;
+//     junction is the union of its balls for the next test. Two junctions linked directly (no
+//     connection point between them: their domain surfaces touch, no part of the body lies
+//     between them) merge while the gap between their balls is less than the smaller radius,
+//     i.e. when they are neighbouring balls of one part (domain balls of a part are about a ball
+//     apart): a squat torso (the knight's) has its hip and shoulder balls anywhere from
+//     overlapping to 2/3 of a radius apart depending on the draw (rotation, noise, seed), while
+//     a torso long enough to hold a connection point of its own (the cheetah's) keeps two
+//     joints. Which of two nearby junctions a limb hangs from changes under small
+//     perturbations; their union does not;
 //   - a shape that shrinks to a single point (a sphere) gets a spine: two more points on its
 //     principal axis, half way from that point to the surface on either side (they own no face);
 //   - kinds by degree: 1 end, >= 3 joint, else connection (an end point on a cycle becomes a
@@ -64,7 +71,8 @@ struct DomainGraphOptions {
   int visibility_candidates = 16;  ///< nearest points tried per face for its visible owner
   bool prune = true;               ///< prune non-end leaves (off: the raw tree + cycles)
   bool contract = true;            ///< contract links shorter than their larger radius
-  bool merge_joints = true;        ///< merge joints whose balls overlap along their chain
+  bool merge_joints = true;        ///< merge joints whose balls overlap along their chain (or,
+                                   ///<    linked directly, are less than a ball apart)
 };
 
 struct DomainGraph {
