@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -189,14 +190,28 @@ void expect_cancel_latency(const std::string& name, double max_seconds = 0.5) {
   const dcg::Skeleton expected = reference.skeleton();
 
   CancelProbe probe;
-  dcg::Extractor extractor(mesh.V, mesh.F, {},
-                           [&probe](const std::string& s, double f) { return probe(s, f); });
+  std::optional<dcg::Extractor> extractor;
+  auto fresh_extractor = [&]() {
+    extractor.emplace(mesh.V, mesh.F, dcg::Options{},
+                      [&probe](const std::string& s, double f) { return probe(s, f); });
+  };
+  fresh_extractor();
   std::map<std::string, double> worst;
   int cancels = 0;
   auto run_expecting_cancel = [&](const std::string& what) {
     try {
-      extractor.skeleton();
-      ADD_FAILURE() << name << ": not cancelled (" << what << ")";
+      extractor->skeleton();
+      // Stages poll by time (at most every 10 ms), so a stage can make fewer calls than in the
+      // reference run: a cancel armed at a later call then never comes. Not an engine fault;
+      // the run finished whole, so the next probes need a fresh Extractor.
+      const bool fewer_calls = probe.delay < 0 && probe.seen[probe.stage] < probe.call;
+      if (fewer_calls) {
+        std::printf("[ %s: %s made %d calls this time, no cancel ]\n", name.c_str(),
+                    probe.stage.c_str(), probe.seen[probe.stage]);
+      } else {
+        ADD_FAILURE() << name << ": not cancelled (" << what << ")";
+      }
+      fresh_extractor();
     } catch (const dcg::Cancelled&) {
       const double latency = seconds_between(probe.requested_at, Clock::now());
       ASSERT_TRUE(probe.requested) << what;
@@ -220,7 +235,7 @@ void expect_cancel_latency(const std::string& name, double max_seconds = 0.5) {
     }
   }
   probe.disarm();
-  const dcg::Skeleton& resumed = extractor.skeleton();
+  const dcg::Skeleton& resumed = extractor->skeleton();
   EXPECT_GE(cancels, 8);
   EXPECT_EQ(resumed.method, expected.method);
   EXPECT_EQ(resumed.positions, expected.positions) << name << ": a cancel left something half-made";
