@@ -250,6 +250,12 @@ TEST(Pipeline, PublicHorseCancelStopsWithinHalfASecondAndResumesWhole) { expect_
 
 TEST(Pipeline, PublicHandCancelStopsWithinHalfASecondAndResumesWhole) { expect_cancel_latency("hand.obj"); }
 
+// An open scan: stage 0 repairs it with CGAL's alpha wrap, which runs on a worker thread so that
+// a cancel need not wait for the wrap's long stretches without a callback (repair.cpp).
+TEST(Pipeline, PublicOpenScanCancelStopsWithinHalfASecondAndResumesWhole) {
+  expect_cancel_latency("bunny-scan-open.obj");
+}
+
 TEST(Pipeline, SameInputSameSkeleton) {
   const dcg::Mesh mesh = dcg::read_mesh(repo_file("data/meshes/torus.off"));
   dcg::Options options;
