@@ -7,10 +7,10 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
-#include <cstdint>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -21,6 +21,8 @@
 namespace dcg {
 namespace {
 
+using internal::PolygonSoup;
+
 using Kernel = CGAL::Simple_cartesian<double>;
 
 std::string lower_extension(const std::filesystem::path& path) {
@@ -28,6 +30,64 @@ std::string lower_extension(const std::filesystem::path& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext;
+}
+
+// OBJ and STL through CGAL. Faces as vectors of indices: reading into std::array<size_t, 3>
+// corrupts the heap (the OBJ reader grows faces one index at a time; see ENVIRONMENT.md).
+PolygonSoup read_with_cgal(const std::string& path, const std::string& ext) {
+  std::vector<Kernel::Point_3> points;
+  std::vector<std::vector<std::size_t>> polygons;
+  bool ok = false;
+  try {
+    ok = CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
+  } catch (const std::exception& e) {
+    throw IoError(path + ": cannot be parsed (" + e.what() + ")");
+  }
+  if (!ok && points.empty()) throw IoError(path + ": cannot be parsed as " + ext.substr(1));
+  PolygonSoup soup;
+  soup.coordinates.reserve(3 * points.size());
+  for (const auto& p : points) soup.coordinates.insert(soup.coordinates.end(), {p.x(), p.y(), p.z()});
+  for (const auto& poly : polygons) {
+    for (std::size_t index : poly) soup.corners.push_back(static_cast<double>(index));
+    soup.sizes.push_back(poly.size());
+  }
+  return soup;
+}
+
+// Every reader's result becomes the mesh here: indices checked, polygons fan-triangulated.
+Mesh mesh_from_soup(const std::string& path, const PolygonSoup& soup) {
+  const std::size_t vertex_count = soup.coordinates.size() / 3;
+  if (vertex_count == 0 || soup.sizes.empty()) {
+    throw InputError(path + ": holds no triangles (" + std::to_string(vertex_count) +
+                     " vertices, " + std::to_string(soup.sizes.size()) + " faces)");
+  }
+  std::size_t triangles = 0;
+  for (std::size_t n : soup.sizes) triangles += n >= 3 ? n - 2 : 0;
+  if (triangles == 0) throw InputError(path + ": holds no faces with 3 or more corners");
+  Mesh mesh;
+  mesh.V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      soup.coordinates.data(), static_cast<Eigen::Index>(vertex_count), 3);
+  mesh.F.resize(static_cast<Eigen::Index>(triangles), 3);
+  Eigen::Index t = 0;
+  std::size_t first = 0;  // the face's first corner in soup.corners
+  for (std::size_t f = 0; f < soup.sizes.size(); first += soup.sizes[f], ++f) {
+    const double* corner = soup.corners.data() + first;
+    const std::size_t n = soup.sizes[f];
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!(corner[k] >= 0) || corner[k] >= static_cast<double>(vertex_count)) {
+        std::ostringstream index;
+        index << std::setprecision(17) << corner[k];
+        throw InputError(path + ": face " + std::to_string(f) + " refers to vertex " +
+                         index.str() + " but the file has only " + std::to_string(vertex_count) +
+                         " vertices");
+      }
+    }
+    for (std::size_t k = 1; k + 1 < n; ++k) {  // fan triangulation
+      mesh.F.row(t++) << static_cast<int>(corner[0]), static_cast<int>(corner[k]),
+          static_cast<int>(corner[k + 1]);
+    }
+  }
+  return mesh;
 }
 
 }  // namespace
@@ -48,50 +108,15 @@ Mesh read_mesh(const std::string& path) {
   }
   if (fs::file_size(p, ec) == 0) throw InputError(path + ": the file is empty");
 
-  // Faces as vectors of indices: reading into std::array<size_t, 3> corrupts the heap (the OBJ
-  // reader grows faces one index at a time; see ENVIRONMENT.md).
-  // Our own readers for PLY and OFF (CGAL's trust the file's counts: see mesh_readers.h).
-  if (ext == ".ply") return internal::read_ply(path);
-  if (ext == ".off") return internal::read_off(path);
-  std::vector<Kernel::Point_3> points;
-  std::vector<std::vector<std::size_t>> polygons;
-  bool ok = false;
-  try {
-    ok = CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
-  } catch (const std::exception& e) {
-    throw IoError(path + ": cannot be parsed (" + e.what() + ")");
+  PolygonSoup soup;
+  if (ext == ".ply") {
+    soup = internal::read_ply(path);  // our own readers: CGAL's trust the file's counts
+  } else if (ext == ".off") {
+    soup = internal::read_off(path);
+  } else {
+    soup = read_with_cgal(path, ext);
   }
-  if (!ok && points.empty()) throw IoError(path + ": cannot be parsed as " + ext.substr(1));
-  if (points.empty() || polygons.empty()) {
-    throw InputError(path + ": holds no triangles (" + std::to_string(points.size()) +
-                     " vertices, " + std::to_string(polygons.size()) + " faces)");
-  }
-
-  Mesh mesh;
-  mesh.V.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    mesh.V.row(static_cast<Eigen::Index>(i)) << points[i].x(), points[i].y(), points[i].z();
-  }
-  std::size_t triangles = 0;
-  for (const auto& poly : polygons) triangles += poly.size() >= 3 ? poly.size() - 2 : 0;
-  if (triangles == 0) throw InputError(path + ": holds no faces with 3 or more corners");
-  mesh.F.resize(static_cast<Eigen::Index>(triangles), 3);
-  Eigen::Index t = 0;
-  for (std::size_t f = 0; f < polygons.size(); ++f) {
-    const auto& poly = polygons[f];
-    for (std::size_t index : poly) {
-      if (index >= points.size()) {
-        throw InputError(path + ": face " + std::to_string(f) + " refers to vertex " +
-                         std::to_string(index) + " but the file has only " +
-                         std::to_string(points.size()) + " vertices");
-      }
-    }
-    for (std::size_t k = 1; k + 1 < poly.size(); ++k) {  // fan triangulation
-      mesh.F.row(t++) << static_cast<int>(poly[0]), static_cast<int>(poly[k]),
-          static_cast<int>(poly[k + 1]);
-    }
-  }
-  return mesh;
+  return mesh_from_soup(path, soup);
 }
 
 }  // namespace dcg

@@ -63,7 +63,7 @@ bool real_number(const std::string& word, double& value) {
 
 }  // namespace
 
-Mesh read_off(const std::string& path) {
+PolygonSoup read_off(const std::string& path) {
   std::error_code ec;
   OffLines lines(path);
   std::vector<std::string> words;
@@ -101,8 +101,8 @@ Mesh read_off(const std::string& path) {
          " faces, more than its " + std::to_string(size) + " bytes can hold");
   }
 
-  std::vector<double> coordinates;
-  coordinates.reserve(static_cast<std::size_t>(3 * nv));
+  PolygonSoup soup;
+  soup.coordinates.reserve(static_cast<std::size_t>(3 * nv));
   for (long long i = 0; i < nv; ++i) {
     if (!lines.next(words)) {
       fail("ends after " + std::to_string(i) + " of its " + std::to_string(nv) + " vertices");
@@ -114,10 +114,9 @@ Mesh read_off(const std::string& path) {
         fail("has '" + words[k].substr(0, 40) + "' where a coordinate of vertex " +
              std::to_string(i) + " is expected");
       }
-      coordinates.push_back(value);
+      soup.coordinates.push_back(value);
     }
   }
-  std::vector<double> corners;
   for (long long f = 0; f < nf; ++f) {
     if (!lines.next(words)) {
       fail("ends after " + std::to_string(f) + " of its " + std::to_string(nf) + " faces");
@@ -127,23 +126,18 @@ Mesh read_off(const std::string& path) {
       fail("does not give face " + std::to_string(f) +
            " as its number of corners followed by that many vertex indices");
     }
-    std::vector<long long> polygon(static_cast<std::size_t>(n));
-    for (long long k = 0; k < n; ++k) {
-      if (!whole_number(words[k + 1], polygon[static_cast<std::size_t>(k)]) ||
-          polygon[static_cast<std::size_t>(k)] >= nv) {
+    for (long long k = 1; k <= n; ++k) {
+      long long index = 0;
+      if (!whole_number(words[static_cast<std::size_t>(k)], index) || index >= nv) {
         fail("gives face " + std::to_string(f) + " the vertex index '" +
-             words[k + 1].substr(0, 40) + "', not an index into its " + std::to_string(nv) +
-             " vertices");
+             words[static_cast<std::size_t>(k)].substr(0, 40) + "', not an index into its " +
+             std::to_string(nv) + " vertices");
       }
+      soup.corners.push_back(static_cast<double>(index));
     }
-    for (long long k = 1; k + 1 < n; ++k) {  // fan triangulation
-      const auto j = static_cast<std::size_t>(k);
-      corners.insert(corners.end(), {static_cast<double>(polygon[0]),
-                                     static_cast<double>(polygon[j]),
-                                     static_cast<double>(polygon[j + 1])});
-    }
+    soup.sizes.push_back(static_cast<std::size_t>(n));
   }
-  return assemble_mesh(path, coordinates, corners);
+  return soup;
 }
 
 }  // namespace dcg::internal

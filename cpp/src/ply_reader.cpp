@@ -255,33 +255,7 @@ bool is_face_list(const Element& element, const Property& property) {
 
 }  // namespace
 
-Mesh assemble_mesh(const std::string& path, const std::vector<double>& coordinates,
-                   const std::vector<double>& corners) {
-  const auto vertex_count = static_cast<Eigen::Index>(coordinates.size() / 3);
-  const auto triangle_count = static_cast<Eigen::Index>(corners.size() / 3);
-  if (vertex_count == 0 || triangle_count == 0) {
-    throw InputError(path + ": holds no triangles (" + std::to_string(vertex_count) +
-                     " vertices, " + std::to_string(triangle_count) + " triangles)");
-  }
-  Mesh mesh;
-  mesh.V = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-      coordinates.data(), vertex_count, 3);
-  mesh.F.resize(triangle_count, 3);
-  for (Eigen::Index t = 0; t < triangle_count; ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const double index = corners[static_cast<std::size_t>(3 * t + k)];
-      if (!(index >= 0) || index >= static_cast<double>(vertex_count)) {
-        throw InputError(path + ": triangle " + std::to_string(t) + " refers to vertex " +
-                         number_text(index) + " but the file has only " +
-                         std::to_string(vertex_count) + " vertices");
-      }
-      mesh.F(t, k) = static_cast<int>(index);
-    }
-  }
-  return mesh;
-}
-
-Mesh read_ply(const std::string& path) {
+PolygonSoup read_ply(const std::string& path) {
   std::string data;
   {
     std::ifstream in(path, std::ios::binary);
@@ -309,9 +283,7 @@ Mesh read_ply(const std::string& path) {
   }
 
   BodyReader body(path, data, header);
-  std::vector<double> coordinates;
-  std::vector<double> corners;  // the face lists' indices, fan-triangulated, 3 per triangle
-  std::vector<double> polygon;
+  PolygonSoup soup;
   for (const Element& element : header.elements) {
     if (element.properties.empty()) continue;  // nothing to read, whatever the count
     const bool is_vertex = &element == vertex;
@@ -322,7 +294,7 @@ Mesh read_ply(const std::string& path) {
           const double v = body.value(*property.type);
           if (is_vertex) {
             for (int k = 0; k < 3; ++k) {
-              if (xyz[k] == static_cast<int>(p)) coordinates.push_back(v);
+              if (xyz[k] == static_cast<int>(p)) soup.coordinates.push_back(v);
             }
           }
           continue;
@@ -332,16 +304,13 @@ Mesh read_ply(const std::string& path) {
           body.skip(*property.type, count);
           continue;
         }
-        polygon.clear();
-        for (std::uint64_t k = 0; k < count; ++k) polygon.push_back(body.value(*property.type));
-        for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
-          corners.insert(corners.end(), {polygon[0], polygon[k], polygon[k + 1]});
-        }
+        for (std::uint64_t k = 0; k < count; ++k) soup.corners.push_back(body.value(*property.type));
+        soup.sizes.push_back(static_cast<std::size_t>(count));
       }
     }
   }
 
-  return assemble_mesh(path, coordinates, corners);
+  return soup;
 }
 
 }  // namespace dcg::internal
