@@ -94,9 +94,7 @@ py::dict skeleton_dict(const dcg::Skeleton& s) {
   d["radii"] = s.radii;
   d["significance"] = s.significance;
   d["links"] = to_int64(s.links);
-  py::list polylines;
-  for (const auto& p : s.polylines) polylines.append(p);
-  d["polylines"] = polylines;
+  d["polylines"] = py::cast(s.polylines);
   d["root"] = s.root;
   d["face_labels"] = to_int64(s.face_labels);
   d["timings"] = py::cast(s.timings);
@@ -266,9 +264,7 @@ class PyExtractor {
   py::dict remap() {
     const dcg::Remapped& r = run([](dcg::Extractor& e) -> const dcg::Remapped& { return e.remap(); });
     py::dict d;
-    py::list polylines;
-    for (const auto& p : r.polylines) polylines.append(p);
-    d["polylines"] = polylines;
+    d["polylines"] = py::cast(r.polylines);
     d["iterations"] = to_int64(r.iterations);
     d["rerouted"] = to_int64(r.rerouted);
     d["moves_refused"] = r.moves_refused;

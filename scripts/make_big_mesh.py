@@ -2,8 +2,8 @@
 midpoints shared, so the result stays a closed manifold of the same shape) and writes it as a
 binary PLY. Two levels turn the 86k-face armadillo into 1.38M faces.
 
-    python3 scripts/make_big_mesh.py [--mesh ../shared/meshes/armadillo.obj] [--levels 2]
-                                     [--out out/bench/armadillo-1m.ply]
+    PYTHONPATH=build/python python3 scripts/make_big_mesh.py [--mesh ../shared/meshes/armadillo.obj] [--levels 2]
+                                                         [--out out/bench/armadillo-1m.ply]
 """
 
 import argparse
@@ -13,20 +13,6 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def read_obj(path):
-    """Vertices and triangles of an OBJ (polygons fan-triangulated; only v and f lines)."""
-    vertices, faces = [], []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("v "):
-                vertices.append([float(x) for x in line.split()[1:4]])
-            elif line.startswith("f "):
-                idx = [int(w.split("/")[0]) for w in line.split()[1:]]
-                idx = [i - 1 if i > 0 else len(vertices) + i for i in idx]
-                faces += [[idx[0], idx[k], idx[k + 1]] for k in range(1, len(idx) - 1)]
-    return np.array(vertices, dtype=np.float64), np.array(faces, dtype=np.int64)
 
 
 def subdivide(V, F):
@@ -66,7 +52,8 @@ def main(argv=None):
     if not args.mesh.is_file():
         print(f"make_big_mesh: {args.mesh} not found (set --mesh)", file=sys.stderr)
         return 1
-    V, F = read_obj(args.mesh)
+    import dcg  # the built module (PYTHONPATH=build/python, as bench_big.py runs it)
+    V, F = dcg.load_mesh(args.mesh)
     for _ in range(args.levels):
         V, F = subdivide(V, F)
     write_ply(args.out, V, F)

@@ -1,5 +1,4 @@
 // Stage 6: domain surfaces, links and the kept graph. See dcg/domain_graph.h.
-#include "union_find.h"
 #include "dcg/domain_graph.h"
 
 #include <algorithm>
@@ -19,7 +18,9 @@
 
 #include "dcg/errors.h"
 #include "dcg/force_field.h"
+#include "dcg/skeleton.h"
 #include "dcg/surface_query.h"
+#include "union_find.h"
 
 namespace dcg {
 namespace {
@@ -73,10 +74,13 @@ bool all_see_each_other(const SurfaceQuery& query, const Points& points, const s
 }
 
 // --- the graph being edited: adjacency sets over point indices --------------------------------
+// `alive` is read directly but changed only through set_alive and merge, which keep `live` (its
+// count) up to date: the pruning loops ask for it once per step.
 struct Graph {
   std::vector<std::set<int>> adj;
   std::vector<char> alive;
   std::vector<int> absorbed_by;  // point -> point that absorbed it (-1: none)
+  int live = 0;
 
   explicit Graph(int n) : adj(n), alive(n, 0), absorbed_by(n, -1) {}
   void link(int a, int b) {
@@ -96,10 +100,14 @@ struct Graph {
       unlink(gone, o);
       if (o != keep) link(keep, o);
     }
-    alive[gone] = 0;
+    set_alive(gone, false);
     absorbed_by[gone] = keep;
   }
-  int count_alive() const { return static_cast<int>(std::count(alive.begin(), alive.end(), 1)); }
+  void set_alive(int p, bool value) {
+    live += static_cast<int>(value) - static_cast<int>(alive[p] != 0);
+    alive[p] = value;
+  }
+  int count_alive() const { return live; }
 };
 
 }  // namespace
@@ -265,7 +273,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
   for (int f = 0; f < nf; ++f)
     if (g.face_labels[f] >= 0) has_face[g.face_labels[f]] = 1;
   Graph graph(P);
-  for (int p = 0; p < P; ++p) graph.alive[p] = has_face[p];
+  for (int p = 0; p < P; ++p) graph.set_alive(p, has_face[p] != 0);
   std::vector<int> order(L);
   std::iota(order.begin(), order.end(), 0);
   auto touches_end = [&](int l) { return is_end(g.candidates(l, 0)) || is_end(g.candidates(l, 1)); };
@@ -286,6 +294,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
   }
 
   // --- handle cycles ------------------------------------------------------------------------
+  std::vector<std::vector<int>> kept;  // link sets of the kept cycles
   if (genus > 0) {
     // Parent pointers of the spanning forest, for tree paths.
     std::vector<int> parent(P, -1), parent_link(P, -1), depth(P, -1);
@@ -331,10 +340,8 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     }
     std::stable_sort(non_tree.begin(), non_tree.end(),
                      [&](int x, int y) { return g.costs[x] < g.costs[y]; });
-    std::vector<std::vector<int>> kept;  // link sets of the kept cycles
-    int kept_count = 0;
     for (int l : non_tree) {
-      if (kept_count >= genus) break;
+      if (static_cast<int>(kept.size()) >= genus) break;
       std::vector<int> pts, links;
       cycle_of(l, pts, links);
       if (all_see_each_other(query, points, pts)) {
@@ -382,7 +389,6 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
         continue;
       }
       kept.push_back(links);
-      ++kept_count;
       g.candidate_state[l] = 2;
       graph.link(g.candidates(l, 0), g.candidates(l, 1));
     }
@@ -391,9 +397,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
   // --- pruning ----------------------------------------------------------------------------
   int live_ends = 0;
   for (int p = 0; p < P; ++p) live_ends += graph.alive[p] && is_end(p);
-  int kept_cycles = 0;
-  for (int l = 0; l < L; ++l) kept_cycles += g.candidate_state[l] == 2;
-  if (options.prune && live_ends <= 1 && kept_cycles == 0) {
+  if (options.prune && live_ends <= 1 && kept.empty()) {
     // No limb to keep: the longest path of the tree (from the end point when there is one).
     auto farthest = [&](int from, std::vector<int>& prev) {
       std::vector<double> dist(P, -1);
@@ -456,7 +460,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
       if (!graph.alive[p] || graph.degree(p) > 1 || is_end(p)) continue;
       if (graph.count_alive() <= 2) break;
       if (graph.degree(p) == 0) {
-        graph.alive[p] = 0;  // an isolated point (cannot happen on a connected surface)
+        graph.set_alive(p, false);  // an isolated point (cannot happen on a connected surface)
         ++g.pruned;
         continue;
       }
@@ -496,7 +500,11 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
           }
         }
         if (shared) continue;
-        const bool end_a = is_end(a) && graph.degree(a) == 1, end_b = is_end(b) && graph.degree(b) == 1;
+        // Known issue (left as it is, since fixing it changes skeletons): end_a describes `a`
+        // before the swap below. In the pipeline the end point is always b (ends come after the
+        // connection points and shorts have a < b), so end_a is false after the swap and the
+        // two merges below never run there; see the session-3 note of issue #4.
+        const bool end_a = is_end(a) && graph.degree(a) == 1;
         if (is_end(a) && is_end(b)) continue;
         if (is_end(b) && !is_end(a)) std::swap(a, b);
         if (is_end(a)) {
@@ -511,7 +519,6 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
             continue;  // an end point inside a cycle or a chain: leave it
           }
         } else {
-          (void)end_b;
           if (radii[b] > radii[a]) std::swap(a, b);
           graph.merge(a, b);
         }
@@ -556,12 +563,10 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
           // Walk the chain of degree-2 points from a through `first`.
           std::vector<int> chain;
           int prev = a, cur = first;
-          double length = (points.row(a) - points.row(first)).norm();
           while (graph.degree(cur) == 2 && cur != a) {
             chain.push_back(cur);
             const int next = *graph.adj[cur].begin() == prev ? *std::next(graph.adj[cur].begin())
                                                               : *graph.adj[cur].begin();
-            length += (points.row(cur) - points.row(next)).norm();
             prev = cur;
             cur = next;
           }
@@ -585,7 +590,6 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
             for (int n : members[b]) tail = std::min(tail, (points.row(n) - points.row(chain.back())).norm() - radii[n]);
             gap = head + inner + tail;
           }
-          (void)length;
           // Directly linked junctions (their domain surfaces touch: no body part between them)
           // are one junction while their balls are less than a ball apart; across a chain only
           // overlapping balls merge.
@@ -656,7 +660,8 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
       g.prong[index] = -1;
       has_face.push_back(0);
       graph.adj.emplace_back();
-      graph.alive.push_back(1);
+      graph.alive.push_back(0);
+      graph.set_alive(index, true);
       graph.absorbed_by.push_back(-1);
       graph.link(c, index);
     }
@@ -695,7 +700,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
   }
   g.kinds.resize(N);
   for (int i = 0; i < N; ++i) {
-    g.kinds[i] = degree[i] == 1 ? NodeKind::End : degree[i] >= 3 ? NodeKind::Joint : NodeKind::Connection;
+    g.kinds[i] = node_kind_of_degree(static_cast<std::size_t>(degree[i]));
   }
   for (int i = 0; i < N; ++i) g.components += comp.find(i) == i;
   g.cycles = static_cast<int>(links.size()) - N + g.components;

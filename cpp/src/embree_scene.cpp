@@ -1,10 +1,11 @@
 #include "embree_scene.h"
 
 #include <atomic>
-#include <chrono>
 #include <exception>
 #include <stdexcept>
 #include <thread>
+
+#include "polling.h"
 
 namespace dcg::internal {
 
@@ -44,19 +45,17 @@ RTCScene triangle_scene(const Vertices& V, const Faces& F, const double center[3
     rtcCommitScene(scene);
     return scene;
   }
-  std::atomic<bool> stop{false}, done{false};
+  std::atomic<bool> stop{false};
   rtcSetSceneProgressMonitorFunction(
       scene, [](void* flag, double) { return !static_cast<std::atomic<bool>*>(flag)->load(); },
       &stop);
+  Completion built;
   std::thread builder([&] {
     rtcCommitScene(scene);
-    done = true;
+    built.set();
   });
   try {
-    while (!done) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      poll();
-    }
+    built.wait_polling(poll);
   } catch (...) {
     stop = true;
     builder.join();

@@ -209,8 +209,7 @@ Skeleton build_interim_graph(const Balls& domain) {
     const int u = keys[i];
     s.positions.row(i) = points.row(u);
     s.radii[i] = domain.radii[u];
-    const size_t degree = adjacency[u].size();
-    s.kinds[i] = degree == 1 ? NodeKind::End : degree >= 3 ? NodeKind::Joint : NodeKind::Connection;
+    s.kinds[i] = node_kind_of_degree(adjacency[u].size());
   }
   // Walk every chain once, from each key node along each of its edges to the next key node.
   std::vector<std::pair<int, int>> links;
@@ -236,13 +235,7 @@ Skeleton build_interim_graph(const Balls& domain) {
   s.links.resize(static_cast<Eigen::Index>(links.size()), 2);
   for (size_t l = 0; l < links.size(); ++l) s.links.row(l) << links[l].first, links[l].second;
 
-  // Root: the joint of largest radius (the torso), else the node of largest radius.
-  for (int pass = 0; pass < 2 && s.root < 0; ++pass) {
-    for (int i = 0; i < n; ++i) {
-      if (pass == 0 && s.kinds[i] != NodeKind::Joint) continue;
-      if (s.root < 0 || s.radii[i] > s.radii[s.root]) s.root = i;
-    }
-  }
+  choose_root(s);
   return s;
 }
 
@@ -365,18 +358,18 @@ Balls drop_balls_outside(Balls balls, const SurfaceQuery& query) {
 // node or a polyline point at p that is not at least 1e-7 inside `surface` moves to
 // q + t (q - p) / |q - p|, q its closest surface point, for the largest t among {0.5, 0.25, 0.1,
 // 0.03, 0.01} x r (r its radius) and half the part's thickness there (never past the opposite
-// wall) that lands at least 1e-7 inside. Returns how many points could not be moved inside.
-int keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r, const SurfaceQuery& surface,
-                      int* moved) {
+// wall) that lands at least 1e-7 inside. A point no candidate brings inside stays where it is.
+void keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r,
+                       const SurfaceQuery& surface) {
   const Eigen::Vector3d p = point.transpose();
   // Ray parity, not the pseudo-normals: the input's own winding may be inside out (mirrored).
   auto inside = [&](const Eigen::Vector3d& c, double depth) {
     return surface.inside_by_parity(c) && surface.distance(c) > depth;
   };
-  if (inside(p, 1e-7)) return 0;
+  if (inside(p, 1e-7)) return;
   const Eigen::Vector3d q = surface.closest_point(p);
   const Eigen::Vector3d d = q - p;
-  if (d.norm() < 1e-12) return 1;
+  if (d.norm() < 1e-12) return;
   const Eigen::Vector3d u = d.normalized();
   // Candidate depths below q along u, deepest first, never past the opposite wall (the chord of
   // the part there), landing at least 1e-7 inside.
@@ -392,8 +385,7 @@ int keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r, const Surf
     const Eigen::Vector3d c = q + depth * u;
     if (inside(c, 1e-7)) {
       point = c.transpose();
-      ++*moved;
-      return 0;
+      return;
     }
   }
   // Folded or self-touching input there: the nearest point inside around p (32 directions,
@@ -413,19 +405,16 @@ int keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r, const Surf
     }
     if (std::isfinite(best)) {
       point = chosen.transpose();
-      ++*moved;
-      return 0;
+      return;
     }
   }
-  return 1;
 }
 
 // Skeleton (normalized units) against `surface`: nodes first, then polyline points (the ends of
-// each polyline are its nodes). Returns the points left outside; `moved` counts the moves.
-int keep_inside(Skeleton& s, const SurfaceQuery& surface, int* moved) {
-  int outside = 0;
+// each polyline are its nodes).
+void keep_inside(Skeleton& s, const SurfaceQuery& surface) {
   for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
-    outside += keep_point_inside(s.positions.row(i), s.radii[i], surface, moved);
+    keep_point_inside(s.positions.row(i), s.radii[i], surface);
   }
   for (Eigen::Index l = 0; l < s.links.rows(); ++l) {
     Points& poly = s.polylines[l];
@@ -435,10 +424,9 @@ int keep_inside(Skeleton& s, const SurfaceQuery& surface, int* moved) {
     poly.row(last) = s.positions.row(b);
     for (Eigen::Index i = 1; i < last; ++i) {
       const double t = static_cast<double>(i) / last;
-      outside += keep_point_inside(poly.row(i), (1 - t) * s.radii[a] + t * s.radii[b], surface, moved);
+      keep_point_inside(poly.row(i), (1 - t) * s.radii[a] + t * s.radii[b], surface);
     }
   }
-  return outside;
 }
 
 }  // namespace
@@ -784,7 +772,6 @@ const Skeleton& Extractor::skeleton() {
       // The working mesh of a remeshed input may bulge out of it in concave places: hold the
       // skeleton to the input's own surface when that is closed (else to the working mesh).
       const PreparedMesh& pm = *prepared_;
-      int moved = 0;
       if (pm.remeshed && !pm.repaired && pm.report.closed_manifold()) {
         Mesh normalized;
         normalized.V.resize(V_.rows(), 3);
@@ -793,9 +780,9 @@ const Skeleton& Extractor::skeleton() {
         // Millions of input faces take a second or more: polled for cancellation.
         const SurfaceQuery input_surface(normalized,
                                          internal::throttled_poll(progress_, "skeleton", 0.97));
-        keep_inside(s, input_surface, &moved);
+        keep_inside(s, input_surface);
       } else {
-        keep_inside(s, query(), &moved);
+        keep_inside(s, query());
       }
       timed("skeleton", now_seconds() - t0);
     } catch (const Cancelled&) {

@@ -4,27 +4,79 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <functional>
+#include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dcg/progress.h"
 
 namespace dcg::internal {
 
+/// Progress of one stage for long loops: operator()(fraction) reports `stage` at the fraction
+/// mapped into [from, to], at most every 10 ms (the first call always reports); Cancelled when
+/// the callback asks to stop.
+class ThrottledProgress {
+ public:
+  ThrottledProgress(const Progress& progress, std::string stage, double from, double to)
+      : progress_(progress), stage_(std::move(stage)), from_(from), to_(to) {}
+  void operator()(double fraction) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < std::chrono::milliseconds(10)) return;
+    last_ = now;
+    progress_.report(stage_, from_ + (to_ - from_) * std::clamp(fraction, 0.0, 1.0));
+  }
+  /// The same, for a part [a, b] of the stage: a callable taking the part's own fraction.
+  std::function<void(double)> part(double a, double b) {
+    return [this, a, b](double f) { (*this)(a + (b - a) * f); };
+  }
+
+ private:
+  const Progress& progress_;
+  std::string stage_;
+  double from_, to_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
 /// A poll for long loops: reports `stage` at `fraction` through `progress` at most every 10 ms
 /// (the first call always reports); Cancelled when the callback asks to stop.
 inline std::function<void()> throttled_poll(const Progress& progress, std::string stage,
                                             double fraction) {
-  using Clock = std::chrono::steady_clock;
-  return [&progress, stage = std::move(stage), fraction, last = Clock::time_point()]() mutable {
-    const auto now = Clock::now();
-    if (now - last < std::chrono::milliseconds(10)) return;
-    last = now;
-    progress.report(stage, fraction);
+  return [throttle = ThrottledProgress(progress, std::move(stage), fraction, fraction)]() mutable {
+    throttle(0.0);
   };
 }
+
+/// Work finishing on another thread while this one keeps polling: the worker calls set() when
+/// done; wait_polling returns as soon as it has, calling `poll` every `every` until then (from
+/// this thread only). Whatever `poll` throws propagates at once; the worker is not stopped.
+class Completion {
+ public:
+  void set() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      done_ = true;
+    }
+    finished_.notify_all();
+  }
+  void wait_polling(const std::function<void()>& poll,
+                    std::chrono::milliseconds every = std::chrono::milliseconds(10)) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!finished_.wait_for(lock, every, [this] { return done_; })) {
+      lock.unlock();
+      poll();
+      lock.lock();
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable finished_;
+  bool done_ = false;
+};
 
 /// std::sort of `v` in chunks of 2^18 entries merged pairwise, calling `poll` (if set) between
 /// the steps: the same order as one std::sort (for entries that compare equal only when they are

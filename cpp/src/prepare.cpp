@@ -39,7 +39,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -297,29 +296,6 @@ std::string problem_list(const Topology& t) {
   return s;
 }
 
-// Reports stage 0's progress (`fraction` of the stage, 0..1) through the callback at most every
-// 10 ms; the callback's "stop" throws Cancelled from here. Cheap enough for inner loops.
-class Poller {
- public:
-  Poller(const Progress& progress, double from, double to)
-      : progress_(progress), from_(from), to_(to) {}
-  void operator()(double fraction) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now - last_ < std::chrono::milliseconds(10)) return;
-    last_ = now;
-    progress_.report("prepare", from_ + (to_ - from_) * std::clamp(fraction, 0.0, 1.0));
-  }
-  /// The same, for a part [a, b] of the stage: a callable taking the part's own fraction.
-  std::function<void(double)> part(double a, double b) {
-    return [this, a, b](double f) { (*this)(a + (b - a) * f); };
-  }
-
- private:
-  const Progress& progress_;
-  double from_, to_;
-  std::chrono::steady_clock::time_point last_{};  // the first call always reports
-};
-
 // Fast first reduction of a huge closed manifold (oriented, one or more shells) to about
 // `goal` faces. In passes: take the shorter half of the edges, shortest first, and collapse each
 // to its midpoint unless
@@ -438,11 +414,12 @@ Mesh fast_reduce(const Mesh& mesh, int goal, const std::function<void(double)>& 
     }
   };
   std::vector<Candidate> candidates;
+  auto fraction_done = [&] { return 1.0 - static_cast<double>(alive_faces - goal) / (nf - goal); };
   for (int pass = 0; alive_faces > goal && pass < 64; ++pass) {
-    poll(1.0 - static_cast<double>(alive_faces - goal) / (nf - goal));
+    poll(fraction_done());
     candidates.clear();
     for (int f = 0; f < nf; ++f) {
-      if ((f & 65535) == 0) poll(1.0 - static_cast<double>(alive_faces - goal) / (nf - goal));
+      if ((f & 65535) == 0) poll(fraction_done());
       if (!face_alive[f]) continue;
       for (int k = 0; k < 3; ++k) {
         const int a = T[f][k], b = T[f][(k + 1) % 3];
@@ -451,20 +428,18 @@ Mesh fast_reduce(const Mesh& mesh, int goal, const std::function<void(double)>& 
         if (a < b) candidates.push_back({static_cast<float>((P[a] - P[b]).squaredNorm()), a, b});
       }
     }
-    const double done = 1.0 - static_cast<double>(alive_faces - goal) / (nf - goal);
-    poll(done);
+    const double pass_start = fraction_done();
+    poll(pass_start);
     // The shorter half, sorted: nth_element, then sorted in chunks between polls.
     const auto half = candidates.begin() + static_cast<std::ptrdiff_t>(candidates.size() / 2);
     std::nth_element(candidates.begin(), half, candidates.end());
-    poll(done);
+    poll(pass_start);
     candidates.resize(candidates.size() / 2);
-    internal::sort_polling(candidates, [&] { poll(done); });
+    internal::sort_polling(candidates, [&] { poll(pass_start); });
     std::fill(moved.begin(), moved.end(), 0);
     int collapsed = 0;
     for (auto it = candidates.begin(); it != candidates.end() && alive_faces > goal; ++it) {
-      if (((it - candidates.begin()) & 4095) == 0) {
-        poll(1.0 - static_cast<double>(alive_faces - goal) / (nf - goal));
-      }
+      if (((it - candidates.begin()) & 4095) == 0) poll(fraction_done());
       if (!vertex_alive[it->a] || !vertex_alive[it->b] || moved[it->a] || moved[it->b]) continue;
       if (try_collapse(it->a, it->b)) ++collapsed;
     }
@@ -576,7 +551,7 @@ int mesh_genus(const Mesh& mesh) {
 
 PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const PrepareOptions& options,
                           const Progress& progress, double from, double to) {
-  Poller poll(progress, from, to);
+  internal::ThrottledProgress poll(progress, "prepare", from, to);
   poll(0);
   validate_mesh(V_in, F_in);
   if (!(options.weld_tolerance >= 0) || !std::isfinite(options.weld_tolerance)) {
@@ -784,7 +759,7 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     const bool near = nf >= target / 2.5 && nf <= target * 2.5;
     const bool skip = near && edge_length_variation(out.working.V, out.working.F) < 0.5;
     if (!skip) {
-      const int goal = 4 * std::max(options.target_faces, 200);
+      const int goal = 4 * std::max(options.target_faces, internal::kMinRemeshFaces);
       if (nf > std::max(2.0 * goal, 150000.0)) {
         out.working = fast_reduce(out.working, goal, poll.part(0.3, 0.5));
       }

@@ -144,6 +144,14 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
   const double n = field.options().force_exponent;
   Eigen::MatrixXd uv(m + 2, 2), force(m, 2), last_gradient = Eigen::MatrixXd::Zero(m, 2);
   std::vector<double> damping(m, 1.0);
+  // The fixed ends' part of the semi-implicit step below (the ends never move).
+  Eigen::MatrixXd ends = Eigen::MatrixXd::Zero(m + 2, 2);
+  for (const int i : {0, m + 1}) {
+    const Eigen::Vector3d q = p.row(i).transpose() - a;
+    ends(i, 0) = q.dot(e1);
+    ends(i, 1) = q.dot(e2);
+  }
+  const Eigen::MatrixXd boundary = 2 * o.time_step * Kb * ends;
   for (int it = 0; it < o.snake_iterations; ++it) {
     // In-plane coordinates (relative to a).
     for (int i = 0; i < count; ++i) {
@@ -174,10 +182,7 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
       force.row(j) = -scale * grad.transpose();
     }
     // Semi-implicit step: (I + 2 tau K) x' = x + tau f - 2 tau Kb_ends x_ends.
-    Eigen::MatrixXd ends = Eigen::MatrixXd::Zero(m + 2, 2);
-    ends.row(0) = uv.row(0);
-    ends.row(m + 1) = uv.row(m + 1);
-    const Eigen::MatrixXd rhs = uv.block(1, 0, m, 2) + o.time_step * force - 2 * o.time_step * Kb * ends;
+    const Eigen::MatrixXd rhs = uv.block(1, 0, m, 2) + o.time_step * force - boundary;
     const Eigen::MatrixXd next = solver.solve(rhs);
     double worst = 0;
     for (int j = 0; j < m; ++j) {

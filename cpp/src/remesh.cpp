@@ -9,10 +9,11 @@
 // face normal: about 3x faster than the Lindstrom-Turk default (0.5 s instead of 1.3 s on the
 // horse) and, as it evens out edge lengths, a better start for the isotropic remeshing, which
 // then makes the triangles uniform in 3 iterations.
-#include <algorithm>
 #include "remesh.h"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -66,8 +67,10 @@ struct PollingNotConstrained {
   using category = boost::readable_property_map_tag;
   const std::function<void(double)>* poll = nullptr;
   double fraction = 0;
+  std::shared_ptr<std::size_t> reads = std::make_shared<std::size_t>(0);  // copies share it
   friend bool get(const PollingNotConstrained& map, key_type) {
-    (*map.poll)(map.fraction);
+    // CGAL reads the map for every vertex it touches: the poll (a clock read) every 256 reads.
+    if ((++*map.reads & 255) == 0) (*map.poll)(map.fraction);
     return false;
   }
 };
@@ -89,10 +92,9 @@ Mesh remesh_uniform(const Mesh& mesh, int target_faces,
   }
   // CGAL's isotropic remeshing segfaults when its target edge is long compared with the shape
   // (a tetrahedron at target_faces 64 collapses into something it cannot handle; found by
-  // fuzzing). So the working mesh keeps at least kMinFaces triangles and edges of at most 1/20
-  // of the bounding-box diagonal, whatever target_faces asks.
-  constexpr int kMinFaces = 200;
-  target_faces = std::max(target_faces, kMinFaces);
+  // fuzzing). So the working mesh keeps at least kMinRemeshFaces triangles and edges of at most
+  // 1/20 of the bounding-box diagonal, whatever target_faces asks.
+  target_faces = std::max(target_faces, kMinRemeshFaces);
   const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
   const double area = PMP::area(sm);
   const double L = std::min(std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces)),

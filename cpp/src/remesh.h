@@ -8,6 +8,9 @@
 
 namespace dcg::internal {
 
+/// The fewest triangles remesh_uniform makes, whatever it is asked (see remesh.cpp).
+constexpr int kMinRemeshFaces = 200;
+
 /// Uniform isotropic remeshing of the closed manifold `mesh` to about `target_faces` triangles
 /// (target edge length from the surface area, equilateral triangles). Large reductions are
 /// first decimated by edge collapse. Throws InputError when `mesh` is not a valid polygon mesh.

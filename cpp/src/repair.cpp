@@ -3,11 +3,8 @@
 
 #include <array>
 #include <atomic>
-#include <chrono>
-#include <condition_variable>
 #include <exception>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -17,6 +14,7 @@
 #include <CGAL/alpha_wrap_3.h>
 
 #include "dcg/errors.h"
+#include "polling.h"
 
 namespace dcg::internal {
 namespace {
@@ -37,9 +35,7 @@ struct WrapJob {
   std::exception_ptr error;
   std::atomic<bool> abandon{false};
   std::atomic<double> fraction{0};  // rough: 0 during the flood fill, 0.9 after it
-  std::mutex mutex;
-  std::condition_variable finished;
-  bool done = false;
+  Completion finished;
 };
 
 // Records the wrap's progress for the waiting thread and stops the wrap once it is abandoned
@@ -97,22 +93,13 @@ Mesh alpha_wrap(const Mesh& soup, double alpha, double offset,
     // pointer); this thread rethrows at once. `poll` is only ever called from this thread.
     std::thread([job] {
       run_wrap(*job);
-      std::lock_guard<std::mutex> lock(job->mutex);
-      job->done = true;
-      job->finished.notify_all();
+      job->finished.set();
     }).detach();
-    std::unique_lock<std::mutex> lock(job->mutex);
-    while (!job->done) {
-      job->finished.wait_for(lock, std::chrono::milliseconds(10));
-      if (job->done) break;
-      lock.unlock();
-      try {
-        poll(job->fraction);
-      } catch (...) {
-        job->abandon = true;
-        throw;
-      }
-      lock.lock();
+    try {
+      job->finished.wait_polling([&] { poll(job->fraction); });
+    } catch (...) {
+      job->abandon = true;
+      throw;
     }
   }
   if (job->error) std::rethrow_exception(job->error);

@@ -19,6 +19,21 @@ const char* node_kind_name(NodeKind kind) {
   return "connection";
 }
 
+NodeKind node_kind_of_degree(std::size_t degree) {
+  return degree == 1 ? NodeKind::End : degree >= 3 ? NodeKind::Joint : NodeKind::Connection;
+}
+
+void choose_root(Skeleton& s) {
+  const int n = static_cast<int>(s.kinds.size());
+  s.root = -1;
+  for (int pass = 0; pass < 2 && s.root < 0; ++pass) {
+    for (int i = 0; i < n; ++i) {
+      if (pass == 0 && s.kinds[i] != NodeKind::Joint) continue;
+      if (s.root < 0 || s.radii[i] > s.radii[s.root]) s.root = i;
+    }
+  }
+}
+
 Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
                            const Eigen::VectorXd& prong_significance) {
   const int n = static_cast<int>(graph.nodes.size());
@@ -42,12 +57,7 @@ Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
   }
   s.links = graph.links;
   s.polylines = remapped.polylines;
-  for (int pass = 0; pass < 2 && s.root < 0; ++pass) {
-    for (int i = 0; i < n; ++i) {
-      if (pass == 0 && s.kinds[i] != NodeKind::Joint) continue;
-      if (s.root < 0 || s.radii[i] > s.radii[s.root]) s.root = i;
-    }
-  }
+  choose_root(s);
   s.face_labels = graph.face_nodes;
   return s;
 }

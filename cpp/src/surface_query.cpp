@@ -23,9 +23,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <mutex>
 #include <random>
-#include <stdexcept>
 #include <string>
 #include <vector>
 

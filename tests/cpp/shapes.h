@@ -24,6 +24,11 @@
 
 namespace dcg::test {
 
+/// A file of this repository, by its path from the repository's root.
+inline std::string repo_file(const std::string& relative) {
+  return std::string(DCG_SOURCE_DIR) + "/" + relative;
+}
+
 /// The folder of the public meshes: $DCG_MESHES, else ../shared/meshes next to the repository.
 inline std::string meshes_dir() {
   if (const char* env = std::getenv("DCG_MESHES")) return env;

@@ -78,7 +78,7 @@ dcg::Options fast_options() {
 }
 
 TEST(Determinism, SpotIsBitIdenticalOnOneAndTwoThreads) {
-  check_deterministic(dcg::read_mesh(std::string(DCG_SOURCE_DIR) + "/data/spot.obj"),
+  check_deterministic(dcg::read_mesh(dcg::test::repo_file("data/spot.obj")),
                       fast_options());
 }
 

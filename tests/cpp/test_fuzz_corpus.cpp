@@ -17,11 +17,13 @@
 #include "../fuzz/fuzz_prepare.cpp"
 #undef LLVMFuzzerTestOneInput
 
+#include "shapes.h"
+
 namespace {
 
 std::vector<std::filesystem::path> corpus(const std::string& target) {
   std::vector<std::filesystem::path> files;
-  const std::filesystem::path dir = std::string(DCG_SOURCE_DIR) + "/tests/fuzz/corpus/" + target;
+  const std::filesystem::path dir = dcg::test::repo_file("tests/fuzz/corpus/" + target);
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     if (entry.is_regular_file()) files.push_back(entry.path());
   }

@@ -9,14 +9,12 @@
 
 #include "dcg/errors.h"
 #include "dcg/io.h"
+#include "shapes.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string repo_file(const std::string& relative) {
-  return std::string(DCG_SOURCE_DIR) + "/" + relative;
-}
+using dcg::test::repo_file;
 
 // A file in a fresh temporary folder, removed with the fixture.
 class TempFiles : public ::testing::Test {

@@ -19,9 +19,7 @@
 
 namespace {
 
-std::string repo_file(const std::string& relative) {
-  return std::string(DCG_SOURCE_DIR) + "/" + relative;
-}
+using dcg::test::repo_file;
 
 TEST(Options, DefaultsAreValidAndMatchTheDesign) {
   dcg::Options options;

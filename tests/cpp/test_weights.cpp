@@ -385,9 +385,7 @@ TEST(WeightsErrors, ProgressCallbackCancelsAndSeesIncreasingFractions) {
 // --- public meshes (left out of the sanitizer run: *Public*) ------------------------------
 
 TEST(WeightsPublic, HandIsWeightedEverywhere) {
-  const std::string path = std::string(DCG_SOURCE_DIR) + "/../shared/meshes/hand.obj";
-  const char* env = std::getenv("DCG_MESHES");
-  const std::string file = env ? std::string(env) + "/hand.obj" : path;
+  const std::string file = dcg::test::meshes_dir() + "/hand.obj";
   if (!std::filesystem::exists(file)) GTEST_SKIP() << "public meshes not found";
   const Mesh m = dcg::read_mesh(file);
   // Bones: the three principal axes' halves through the center, a crude armature.

@@ -163,10 +163,9 @@ def test_zero_area_and_duplicate_faces_are_dropped():
     extra = np.array([[0, 0, 1], [5, 5, 5], [1, 2, 3]])  # repeated indices; 1-2-3 is collinear?
     V = np.vstack([V, [[0.0, 0.0, 0.0]]])  # a vertex on no face
     F2 = np.vstack([F, F[:10], F[:5, [1, 2, 0]], F[:5, ::-1], extra[:2]])
-    s = dcg.extract_skeleton(V, F2, **FAST)
-    assert_valid_skeleton(s, F2)
-    report = dcg.Extractor(V, F2, **FAST).prepare().report
-    assert report["dropped_faces"] >= 12
+    ex = dcg.Extractor(V, F2, **FAST)
+    assert_valid_skeleton(ex.skeleton(), F2)
+    assert ex.prepare().report["dropped_faces"] >= 12
 
 
 def test_a_single_tetrahedron_gives_a_skeleton():

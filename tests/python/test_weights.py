@@ -5,9 +5,11 @@ give bones; reuse of stage 0; errors, progress and cancellation.
 Every public mesh is weighted at scales 0.01, 1 and 100 (about a minute in all).
 """
 
+import functools
 import os
 import threading
 import time
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -237,11 +239,17 @@ def test_gil_is_released_while_weighting(meshes_dir):
 
 # --- the public meshes ---------------------------------------------------------------------------
 
-def _bones_for(name, V, F, meshes_dir):
-    rig = meshes_dir / "rigs" / (name.rsplit(".", 1)[0] + ".tgf")
-    if rig.is_file():
-        return read_tgf(rig)
-    return skeleton_bones(dcg.extract_skeleton(V, F))
+@functools.lru_cache(maxsize=None)
+def _mesh_and_bones(path):
+    """(V, F, heads, tails) of the mesh file at `path` (a str): its artist's rig from rigs/ when
+    there is one, else its skeleton's bones. Cached: every scale of a mesh shares one skeleton."""
+    path = Path(path)
+    V, F = dcg.load_mesh(path)
+    rig = path.parent / "rigs" / (path.stem + ".tgf")
+    heads, tails = read_tgf(rig) if rig.is_file() else skeleton_bones(dcg.extract_skeleton(V, F))
+    for a in (V, F, heads, tails):
+        a.setflags(write=False)  # shared between tests
+    return V, F, heads, tails
 
 
 DEFAULT_MESHES = ["hand.obj", "wolf-open.obj", "bunny-scan-open.obj", "octopus-low.obj"]
@@ -260,8 +268,7 @@ def _public_meshes():
 @pytest.mark.parametrize("scale", [0.01, 1.0, 100.0])
 @pytest.mark.parametrize("name", _public_meshes())
 def test_every_vertex_of_a_public_mesh_is_weighted(meshes_dir, name, scale):
-    V, F = dcg.load_mesh(meshes_dir / name)
-    heads, tails = _bones_for(name, V, F, meshes_dir)
+    V, F, heads, tails = _mesh_and_bones(str(meshes_dir / name))
     w = skin_weights(V * scale, F, heads * scale, tails * scale)
     check_weights(w, len(V), len(heads))
     assert w.blind_components == 0
@@ -274,8 +281,7 @@ def test_every_vertex_of_a_public_mesh_is_weighted(meshes_dir, name, scale):
 
 
 def test_spot_is_weighted_the_same_at_every_scale(meshes_dir):
-    V, F = dcg.load_mesh(meshes_dir / "spot.obj")
-    heads, tails = skeleton_bones(dcg.extract_skeleton(V, F))
+    V, F, heads, tails = _mesh_and_bones(str(meshes_dir / "spot.obj"))
     weights = {}
     for scale in (0.01, 1.0, 100.0):
         w = skin_weights(V * scale, F, heads * scale, tails * scale)

@@ -64,7 +64,8 @@ class ForceField {
   /// F at every row of `points` (#P by 3), in parallel.
   FieldSamples evaluate(const Points& points) const;
   /// Central-difference gradient of |F| at p along each of `axes` (unit vectors), step h:
-  /// (|F|(p + h a) - |F|(p - h a)) / 2h per axis. Used by the snake of stage 7.
+  /// (|F|(p + h a) - |F|(p - h a)) / 2h per axis: a check on at_with_gradient's gradient
+  /// (tests/cpp/test_force_field.cpp).
   Eigen::VectorXd magnitude_slopes(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& axes,
                                    double h) const;
   /// Mean |F| over `samples` points evenly spaced strictly inside the segment a-b (the link cost
@@ -73,12 +74,7 @@ class ForceField {
                         bool* all_inside = nullptr) const;
 
   const ForceFieldOptions& options() const { return options_; }
-  /// #K by 3 unit ray directions (a Fibonacci sphere).
-  const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>& directions() const {
-    return directions_;
-  }
   const SurfaceQuery& query() const { return *query_; }
-  std::shared_ptr<const SurfaceQuery> shared_query() const { return query_; }
 
  private:
   FieldSample sample(const Eigen::Vector3d& p, bool gradient) const;

@@ -19,6 +19,9 @@ enum class NodeKind { End, Joint, Connection };
 /// "end", "joint" or "connection": the names used in Python, JSON and Blender.
 const char* node_kind_name(NodeKind kind);
 
+/// A node's kind from its number of links: 1 end, 3 or more joint, else connection.
+NodeKind node_kind_of_degree(std::size_t degree);
+
 /// The skeleton in the INPUT's coordinates.
 struct Skeleton {
   Points positions;                  ///< #N by 3 node positions
@@ -48,5 +51,9 @@ struct Skeleton {
 /// face_labels: the node of each face of the WORKING mesh. method: "dcg".
 Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
                            const Eigen::VectorXd& prong_significance);
+
+/// Sets s.root: the joint of largest radius (the torso), else the node of largest radius
+/// (-1 when there is no node).
+void choose_root(Skeleton& s);
 
 }  // namespace dcg
