@@ -500,23 +500,15 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
           }
         }
         if (shared) continue;
-        // Known issue (left as it is, since fixing it changes skeletons): end_a describes `a`
-        // before the swap below. In the pipeline the end point is always b (ends come after the
-        // connection points and shorts have a < b), so end_a is false after the swap and the
-        // two merges below never run there; see the session-3 note of issue #4.
-        const bool end_a = is_end(a) && graph.degree(a) == 1;
         if (is_end(a) && is_end(b)) continue;
         if (is_end(b) && !is_end(a)) std::swap(a, b);
         if (is_end(a)) {
-          // a is an end point (b is not).
-          const int db = graph.degree(b);
-          if (end_a && db == 2) {
-            graph.merge(a, b);  // the end absorbs the chain node next to it
-          } else if (end_a && db >= 3) {
-            graph.merge(b, a);  // a bump on a junction
-            ++g.ends_absorbed;
+          // a is an end point (b is not): a tip absorbs the chain node next to it. An end
+          // next to a junction stays (the bumps pass below decides with the tube test).
+          if (graph.degree(a) == 1 && graph.degree(b) == 2) {
+            graph.merge(a, b);
           } else {
-            continue;  // an end point inside a cycle or a chain: leave it
+            continue;  // an end point inside a cycle or a chain, or next to a junction
           }
         } else {
           if (radii[b] > radii[a]) std::swap(a, b);
