@@ -67,4 +67,47 @@ RTCScene triangle_scene(const Vertices& V, const Faces& F, const double center[3
   return scene;
 }
 
+RTCRay single_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double tnear,
+                  double tfar) {
+  RTCRay ray;
+  ray.org_x = static_cast<float>(origin.x());
+  ray.org_y = static_cast<float>(origin.y());
+  ray.org_z = static_cast<float>(origin.z());
+  ray.dir_x = static_cast<float>(direction.x());
+  ray.dir_y = static_cast<float>(direction.y());
+  ray.dir_z = static_cast<float>(direction.z());
+  ray.tnear = static_cast<float>(tnear);
+  ray.tfar = static_cast<float>(tfar);
+  ray.time = 0.f;
+  ray.mask = 0xFFFFFFFFu;
+  ray.id = 0;
+  ray.flags = 0;
+  return ray;
+}
+
+void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direction[3],
+                  float tnear, float tfar) {
+  ray.org_x[k] = origin[0];
+  ray.org_y[k] = origin[1];
+  ray.org_z[k] = origin[2];
+  ray.dir_x[k] = direction[0];
+  ray.dir_y[k] = direction[1];
+  ray.dir_z[k] = direction[2];
+  ray.tnear[k] = tnear;
+  ray.tfar[k] = tfar;
+  ray.time[k] = 0.f;
+  ray.mask[k] = 0xFFFFFFFFu;
+  ray.id[k] = static_cast<unsigned>(k);
+  ray.flags[k] = 0;
+}
+
+bool occluded(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+              double tnear, double tfar) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = single_ray(origin, direction, tnear, tfar);
+  rtcOccluded1(scene, &context, &ray);
+  return ray.tfar < 0;  // Embree sets tfar to -inf when the ray hits a triangle
+}
+
 }  // namespace dcg::internal

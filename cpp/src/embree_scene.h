@@ -4,6 +4,7 @@
 
 #include <functional>
 
+#include <Eigen/Core>
 #include <embree3/rtcore.h>
 
 #include "dcg/types.h"
@@ -22,5 +23,18 @@ RTCDevice embree_device();
 /// scene released and the exception rethrown.
 RTCScene triangle_scene(const Vertices& V, const Faces& F, const double center[3],
                         const std::function<void()>& poll = {});
+
+/// One ray origin + t * direction, t in [tnear, tfar]; `origin` is relative to the scene's
+/// center (see triangle_scene). The direction need not be unit length (t is then in its units).
+RTCRay single_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double tnear,
+                  double tfar);
+
+/// Lane k of an 8-wide packet, set the same way as single_ray (floats already centered).
+void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direction[3],
+                  float tnear, float tfar);
+
+/// True when some triangle of `scene` lies on the ray (rtcOccluded1).
+bool occluded(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+              double tnear, double tfar);
 
 }  // namespace dcg::internal

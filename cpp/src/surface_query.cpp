@@ -197,19 +197,7 @@ struct SurfaceQuery::Impl {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
-    const Eigen::Vector3d o = origin - center;
-    rh.ray.org_x = static_cast<float>(o.x());
-    rh.ray.org_y = static_cast<float>(o.y());
-    rh.ray.org_z = static_cast<float>(o.z());
-    rh.ray.dir_x = static_cast<float>(direction.x());
-    rh.ray.dir_y = static_cast<float>(direction.y());
-    rh.ray.dir_z = static_cast<float>(direction.z());
-    rh.ray.tnear = static_cast<float>(tnear);
-    rh.ray.tfar = static_cast<float>(tfar);
-    rh.ray.time = 0.f;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
+    rh.ray = internal::single_ray(origin - center, direction, tnear, tfar);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene, &context, &rh);
@@ -378,24 +366,7 @@ double SurfaceQuery::ray_hit(const Eigen::Vector3d& origin, const Eigen::Vector3
 bool SurfaceQuery::segment_inside(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
   if (!inside(a) || !inside(b)) return false;
   if ((a - b).norm() == 0) return true;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRay ray;
-  const Eigen::Vector3d o = a - impl_->center, d = b - a;
-  ray.org_x = static_cast<float>(o.x());
-  ray.org_y = static_cast<float>(o.y());
-  ray.org_z = static_cast<float>(o.z());
-  ray.dir_x = static_cast<float>(d.x());
-  ray.dir_y = static_cast<float>(d.y());
-  ray.dir_z = static_cast<float>(d.z());
-  ray.tnear = 0.f;
-  ray.tfar = 1.f;
-  ray.time = 0.f;
-  ray.mask = 0xFFFFFFFFu;
-  ray.id = 0;
-  ray.flags = 0;
-  rtcOccluded1(impl_->scene, &context, &ray);
-  return ray.tfar >= 0;  // Embree sets tfar to -inf when the segment hits the surface
+  return !internal::occluded(impl_->scene, a - impl_->center, b - a, 0.0, 1.0);
 }
 
 }  // namespace dcg
@@ -412,8 +383,8 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
                            double* t, unsigned char* from_inside, int* faces) const {
   const Impl& m = *impl_;
   const Eigen::Vector3d o = origin - m.center;
-  const float ox = static_cast<float>(o.x()), oy = static_cast<float>(o.y()),
-              oz = static_cast<float>(o.z());
+  const float org[3] = {static_cast<float>(o.x()), static_cast<float>(o.y()),
+                       static_cast<float>(o.z())};
   const float inf = std::numeric_limits<float>::infinity();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -425,18 +396,7 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
     for (int k = 0; k < 8; ++k) {
       const int r = start + std::min(k, n - 1);
       valid[k] = k < n ? -1 : 0;
-      rh.ray.org_x[k] = ox;
-      rh.ray.org_y[k] = oy;
-      rh.ray.org_z[k] = oz;
-      rh.ray.dir_x[k] = directions[3 * r];
-      rh.ray.dir_y[k] = directions[3 * r + 1];
-      rh.ray.dir_z[k] = directions[3 * r + 2];
-      rh.ray.tnear[k] = 0.f;
-      rh.ray.tfar[k] = inf;
-      rh.ray.time[k] = 0.f;
-      rh.ray.mask[k] = 0xFFFFFFFFu;
-      rh.ray.id[k] = static_cast<unsigned>(k);
-      rh.ray.flags[k] = 0;
+      internal::set_ray_lane(rh.ray, k, org, directions + 3 * r, 0.f, inf);
       rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
@@ -478,18 +438,12 @@ void SurfaceQuery::segments_blocked(const double* a, const double* b, int count,
       const double* pb = b + 3 * i;
       const bool degenerate = pa[0] == pb[0] && pa[1] == pb[1] && pa[2] == pb[2];
       valid[k] = k < n && !degenerate && t0 < t1 ? -1 : 0;
-      ray.org_x[k] = static_cast<float>(pa[0] - m.center.x());
-      ray.org_y[k] = static_cast<float>(pa[1] - m.center.y());
-      ray.org_z[k] = static_cast<float>(pa[2] - m.center.z());
-      ray.dir_x[k] = static_cast<float>(pb[0] - pa[0]);
-      ray.dir_y[k] = static_cast<float>(pb[1] - pa[1]);
-      ray.dir_z[k] = static_cast<float>(pb[2] - pa[2]);
-      ray.tnear[k] = t0;
-      ray.tfar[k] = t1;
-      ray.time[k] = 0.f;
-      ray.mask[k] = 0xFFFFFFFFu;
-      ray.id[k] = static_cast<unsigned>(k);
-      ray.flags[k] = 0;
+      const float org[3] = {static_cast<float>(pa[0] - m.center.x()),
+                            static_cast<float>(pa[1] - m.center.y()),
+                            static_cast<float>(pa[2] - m.center.z())};
+      const float dir[3] = {static_cast<float>(pb[0] - pa[0]), static_cast<float>(pb[1] - pa[1]),
+                            static_cast<float>(pb[2] - pa[2])};
+      internal::set_ray_lane(ray, k, org, dir, t0, t1);
     }
     rtcOccluded8(valid, m.scene, &context, &ray);
     for (int k = 0; k < n; ++k) {
@@ -500,9 +454,11 @@ void SurfaceQuery::segments_blocked(const double* a, const double* b, int count,
 
 bool SurfaceQuery::segment_blocked(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                    double trim) const {
-  unsigned char blocked = 0;
-  segments_blocked(a.data(), b.data(), 1, trim, &blocked);
-  return blocked != 0;
+  // One ray (rtcOccluded1), the same test as one lane of segments_blocked.
+  const double t0 = std::max(0.0, trim), t1 = std::min(1.0, 1.0 - trim);
+  if (a == b || !(static_cast<float>(t0) < static_cast<float>(t1))) return false;
+  return internal::occluded(impl_->scene, a - impl_->center, b - a, static_cast<float>(t0),
+                            static_cast<float>(t1));
 }
 
 }  // namespace dcg

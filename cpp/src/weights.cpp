@@ -149,24 +149,7 @@ struct BoneHeat::Impl {
     const double length = d.norm();
     if (length <= 2 * margin) return true;
     d /= length;
-    const Eigen::Vector3d oc = o - center.transpose();
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay ray;
-    ray.org_x = static_cast<float>(oc.x());
-    ray.org_y = static_cast<float>(oc.y());
-    ray.org_z = static_cast<float>(oc.z());
-    ray.dir_x = static_cast<float>(d.x());
-    ray.dir_y = static_cast<float>(d.y());
-    ray.dir_z = static_cast<float>(d.z());
-    ray.tnear = static_cast<float>(margin);
-    ray.tfar = static_cast<float>(length - margin);
-    ray.time = 0.f;
-    ray.mask = 0xFFFFFFFFu;
-    ray.id = 0;
-    ray.flags = 0;
-    rtcOccluded1(scene, &context, &ray);
-    return ray.tfar >= 0;  // Embree sets tfar to -inf when the segment hits the surface
+    return !internal::occluded(scene, o - center.transpose(), d, margin, length - margin);
   }
 
   // Nearest visible bones of every vertex of `m` (see BoneHeat::Impl::visible). With `blind`,
