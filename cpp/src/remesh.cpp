@@ -29,6 +29,7 @@
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include "dcg/errors.h"
+#include "surface_mesh_convert.h"
 
 namespace dcg::internal {
 namespace {
@@ -122,26 +123,7 @@ Mesh remesh_uniform(const Mesh& mesh, int target_faces,
                                .vertex_is_constrained_map(not_constrained));
   sm.collect_garbage();
   poll(1.0);
-  Mesh out;
-  out.V.resize(sm.number_of_vertices(), 3);
-  std::vector<int> index(sm.num_vertices(), -1);
-  int n = 0;
-  for (auto v : sm.vertices()) {
-    const Point& p = sm.point(v);
-    out.V.row(n) << p.x(), p.y(), p.z();
-    index[v.idx()] = n++;
-  }
-  out.F.resize(sm.number_of_faces(), 3);
-  int f = 0;
-  for (auto face : sm.faces()) {
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(sm.halfedge(face), sm)) {
-      if (k < 3) out.F(f, k) = index[v.idx()];
-      ++k;
-    }
-    ++f;
-  }
-  return out;
+  return mesh_from_surface_mesh(sm, "remeshing failed: the result");
 }
 
 }  // namespace dcg::internal

@@ -15,6 +15,7 @@
 
 #include "dcg/errors.h"
 #include "polling.h"
+#include "surface_mesh_convert.h"
 
 namespace dcg::internal {
 namespace {
@@ -109,27 +110,7 @@ Mesh alpha_wrap(const Mesh& soup, double alpha, double offset,
     throw InputError("repair failed: the alpha wrap (alpha " + std::to_string(alpha) +
                      ") of the mesh is empty");
   }
-  Mesh out;
-  out.V.resize(wrap.number_of_vertices(), 3);
-  std::vector<int> index(wrap.num_vertices(), -1);
-  int n = 0;
-  for (auto v : wrap.vertices()) {
-    const Point& p = wrap.point(v);
-    out.V.row(n) << p.x(), p.y(), p.z();
-    index[v.idx()] = n++;
-  }
-  out.F.resize(wrap.number_of_faces(), 3);
-  int f = 0;
-  for (auto face : wrap.faces()) {
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(wrap.halfedge(face), wrap)) {
-      if (k < 3) out.F(f, k) = index[v.idx()];
-      ++k;
-    }
-    if (k != 3) throw InputError("repair failed: the alpha wrap is not a triangle mesh");
-    ++f;
-  }
-  return out;
+  return mesh_from_surface_mesh(wrap, "repair failed: the alpha wrap");
 }
 
 }  // namespace dcg::internal
