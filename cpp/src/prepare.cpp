@@ -109,6 +109,7 @@ struct Topology {
   int border_loops = 0;
   bool orientable = true;
   double largest_hole = 0;  // bbox diagonal of the largest border loop
+  double enclosed_volume = 0;  // sum over components of |signed volume| (only when orienting)
 };
 
 // Counts edges, borders, non-manifold edges / vertices and components of (V, F); when `orient`
@@ -265,6 +266,7 @@ Topology analyze(const Vertices& V, Faces& F, bool orient, const std::function<v
   for (int f = 0; f < nf; ++f) {
     if (volume[comp_of[f]] < 0) std::swap(F(f, 1), F(f, 2));
   }
+  for (double v : volume) t.enclosed_volume += std::abs(v) / 6.0;
   return t;
 }
 
@@ -737,15 +739,9 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     // A closed manifold whose faces fold flat onto each other (found by fuzzing: an octahedron
     // with its centre on an edge) encloses no volume, and CGAL's isotropic remeshing crashes
     // on it (SEGV in tangential_relaxation). Its vertices are not in one plane, so the flat
-    // check above lets it through; the enclosed volume (divergence theorem, normalized units,
-    // so a real shape has about 1e-3 or more) tells.
-    double volume = 0;
-    for (Eigen::Index f = 0; f < clean.F.rows(); ++f) {
-      const Eigen::Vector3d a = clean.V.row(clean.F(f, 0)), b = clean.V.row(clean.F(f, 1)),
-                            c = clean.V.row(clean.F(f, 2));
-      volume += a.dot(b.cross(c)) / 6.0;
-    }
-    if (!(std::abs(volume) > 1e-10)) {
+    // check above lets it through; the enclosed volume (divergence theorem, from analyze(), in
+    // normalized units, so a real shape has about 1e-3 or more) tells.
+    if (!(topo.enclosed_volume > 1e-10)) {
       throw InputError("the mesh encloses no volume: it is closed, but its faces lie flat on "
                        "each other");
     }
@@ -773,7 +769,7 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
 
   // Map every input vertex to the working mesh: onto its own corner when the working mesh is the
   // cleaned input, else to its closest point (in parallel, on the shared SurfaceQuery).
-  out.query = std::make_shared<const SurfaceQuery>(out.working);
+  out.query = std::make_shared<const SurfaceQuery>(out.working, [&] { poll(0.86); });
   {
     const auto& W = out.working;
     out.map_face.resize(nv);
