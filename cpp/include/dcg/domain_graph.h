@@ -33,10 +33,11 @@
 //   - links shorter than the larger radius of their two nodes are contracted, shortest first,
 //     never when the two nodes share a neighbour (that would fold a cycle) nor between two end
 //     points: a non-end node is merged into the node of larger radius (which keeps its place);
-//     an end point absorbs a chain node (degree 2) next to it; an end point whose link to a
-//     junction (degree >= 3) is that short is a bump on the junction and merges into it, and so
-//     is an end point that lies inside the tube of another link of its junction (closer to that
-//     segment than the smaller radius of its two nodes): the digit eight's prongs on its loops;
+//     an end point absorbs a chain node (degree 2) next to it; an end point next to a junction
+//     (degree >= 3) stays, whatever its link's length (merging it there took fertility's second
+//     end). An end point that lies inside the tube of another link of its junction (closer to
+//     that segment than the smaller radius of its two nodes) is a bump on the junction and
+//     merges into it: the digit eight's prongs on its loops;
 //   - two junctions (degree >= 3) whose balls overlap along the chain (over degree-2 points)
 //     between them (the chain is shorter than the sum of their radii) are one junction: the
 //     chain and the smaller junction merge into the larger one (never across a cycle); a merged
