@@ -543,7 +543,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     }
   }
 
-  // --- joints whose balls overlap along the chain between them are one junction ----------------
+  // --- joints less than a ball apart along the path between them are one junction --------------
   if (options.merge_joints) {
     std::vector<std::vector<int>> members(P);
     for (int p = 0; p < P; ++p) members[p] = {p};
@@ -582,10 +582,16 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
             for (int n : members[b]) tail = std::min(tail, (points.row(n) - points.row(chain.back())).norm() - radii[n]);
             gap = head + inner + tail;
           }
-          // Directly linked junctions (their domain surfaces touch: no body part between them)
-          // are one junction while their balls are less than a ball apart; across a chain only
-          // overlapping balls merge.
-          const double reach = chain.empty() ? std::min(radii[a], radii[b]) : 0.0;
+          // Two junctions are one while their balls are less than a ball (the smaller) apart
+          // along the path between them, whether they are linked directly (their domain surfaces
+          // touch) or across a chain of connection points. The chain counts by its length: a
+          // torso between hips and shoulders keeps them apart, while a chain that only wanders
+          // out of a junction and back (the cheetah's hind junction split in two whose balls
+          // overlap, joined through one point beside them) or whose points sit on the rim of the
+          // two balls (the knight's hips and shoulders a quarter ball apart) is no body part of
+          // its own. Requiring overlapping balls across a chain let such a point split one
+          // junction in two under a small perturbation.
+          const double reach = std::min(radii[a], radii[b]);
           if (gap >= reach) continue;
           // Only across a bridge: merging the two ends of a cycle would fold it.
           std::vector<char> seen(graph.alive.size(), 0);
