@@ -73,6 +73,22 @@ bool all_see_each_other(const SurfaceQuery& query, const Points& points, const s
   return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
 }
 
+// The widest chord of the shape through the midpoint of a and b, across the segment between
+// them: the longest of 12 lines through the midpoint, every 15 degrees in the plane normal to
+// b - a, each cut at the first surface hit on either side. A tube gives about its diameter, a
+// slab (a palm) its breadth.
+double widest_chord(const SurfaceQuery& query, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d mid = 0.5 * (a + b), axis = (b - a).normalized();
+  const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+  double widest = 0;
+  for (int k = 0; k < 12; ++k) {
+    const double angle = M_PI * k / 12;
+    const Eigen::Vector3d d = std::cos(angle) * u + std::sin(angle) * w;
+    widest = std::max(widest, query.ray_hit(mid, d) + query.ray_hit(mid, -d));
+  }
+  return widest;
+}
+
 // --- the graph being edited: adjacency sets over point indices --------------------------------
 // `alive` is read directly but changed only through set_alive and merge, which keep `live` (its
 // count) up to date: the pruning loops ask for it once per step.
@@ -592,7 +608,18 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
           // its own. Requiring overlapping balls across a chain let such a point split one
           // junction in two under a small perturbation.
           const double reach = std::min(radii[a], radii[b]);
-          if (gap >= reach) continue;
+          if (gap >= reach) {
+            // Nor is a body part one that is shorter than the body is wide across it: two
+            // junctions closer to each other than the widest chord through their midpoint (a
+            // palm with fingers hanging from two of its points, a chunky torso) are one. A torso
+            // or a limb between two junctions is longer than it is wide. The straight segment
+            // must stay inside, or the chord measures another part.
+            const Eigen::Vector3d pa = points.row(a).transpose(), pb = points.row(b).transpose();
+            const double apart = (pa - pb).norm();
+            if (apart <= 0 || !query.segment_inside(pa, pb)) continue;
+            const double chord = widest_chord(query, pa, pb);
+            if (!std::isfinite(chord) || apart >= chord) continue;
+          }
           // Only across a bridge: merging the two ends of a cycle would fold it.
           std::vector<char> seen(graph.alive.size(), 0);
           for (int c : chain) seen[c] = 1;

@@ -72,7 +72,8 @@ struct DomainGraphOptions {
   bool prune = true;               ///< prune non-end leaves (off: the raw tree + cycles)
   bool contract = true;            ///< contract links shorter than their larger radius
   bool merge_joints = true;        ///< merge joints whose balls are less than a ball apart
-                                   ///<    along the link or chain between them
+                                   ///<    along the link or chain between them, or that are
+                                   ///<    closer than the body is wide across them
 };
 
 struct DomainGraph {
