@@ -559,7 +559,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     }
   }
 
-  // --- joints less than a ball apart along the path between them are one junction --------------
+  // --- joints close along their path, or closer than the body is wide, are one junction --------
   if (options.merge_joints) {
     std::vector<std::vector<int>> members(P);
     for (int p = 0; p < P; ++p) members[p] = {p};
@@ -598,22 +598,19 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
             for (int n : members[b]) tail = std::min(tail, (points.row(n) - points.row(chain.back())).norm() - radii[n]);
             gap = head + inner + tail;
           }
-          // Two junctions are one while their balls are less than a ball (the smaller) apart
-          // along the path between them, whether they are linked directly (their domain surfaces
-          // touch) or across a chain of connection points. The chain counts by its length: a
-          // torso between hips and shoulders keeps them apart, while a chain that only wanders
-          // out of a junction and back (the cheetah's hind junction split in two whose balls
-          // overlap, joined through one point beside them) or whose points sit on the rim of the
-          // two balls (the knight's hips and shoulders a quarter ball apart) is no body part of
-          // its own. Requiring overlapping balls across a chain let such a point split one
-          // junction in two under a small perturbation.
-          const double reach = std::min(radii[a], radii[b]);
+          // Directly linked junctions (their domain surfaces touch: no body part between them)
+          // are one junction while their balls are less than a ball apart; across a chain only
+          // overlapping balls merge (a chain a ball long can be a torso: the cheetah's front and
+          // hind junctions, perturbed, came 0.94 balls apart along theirs).
+          const double reach = chain.empty() ? std::min(radii[a], radii[b]) : 0.0;
           if (gap >= reach) {
             // Nor is a body part one that is shorter than the body is wide across it: two
-            // junctions closer to each other than the widest chord through their midpoint (a
-            // palm with fingers hanging from two of its points, a chunky torso) are one. A torso
-            // or a limb between two junctions is longer than it is wide. The straight segment
-            // must stay inside, or the chord measures another part.
+            // junctions closer to each other than the widest chord through their midpoint are
+            // one, whatever lies between them (a palm with fingers hanging from two of its
+            // points, a chunky torso, or one junction split in two whose balls overlap, joined
+            // through a point beside them). A torso or a limb between two junctions is longer
+            // than it is wide. The straight segment must stay inside, or the chord measures
+            // another part.
             const Eigen::Vector3d pa = points.row(a).transpose(), pb = points.row(b).transpose();
             const double apart = (pa - pb).norm();
             if (apart <= 0 || !query.segment_inside(pa, pb)) continue;

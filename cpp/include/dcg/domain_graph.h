@@ -71,9 +71,9 @@ struct DomainGraphOptions {
   int visibility_candidates = 16;  ///< nearest points tried per face for its visible owner
   bool prune = true;               ///< prune non-end leaves (off: the raw tree + cycles)
   bool contract = true;            ///< contract links shorter than their larger radius
-  bool merge_joints = true;        ///< merge joints whose balls are less than a ball apart
-                                   ///<    along the link or chain between them, or that are
-                                   ///<    closer than the body is wide across them
+  bool merge_joints = true;        ///< merge joints whose balls overlap along their chain (or,
+                                   ///<    linked directly, are less than a ball apart), or that
+                                   ///<    are closer than the body is wide across them
 };
 
 struct DomainGraph {
