@@ -115,6 +115,22 @@ bool all_see_each_other(const SurfaceQuery& query, const Points& points, const s
   return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
 }
 
+// The widest chord of the shape through the midpoint of a and b, across the segment between
+// them: the longest of 12 lines through the midpoint, every 15 degrees in the plane normal to
+// b - a, each cut at the first surface hit on either side. A tube gives about its diameter, a
+// slab (a palm) its breadth.
+double widest_chord(const SurfaceQuery& query, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d mid = 0.5 * (a + b), axis = (b - a).normalized();
+  const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+  double widest = 0;
+  for (int k = 0; k < 12; ++k) {
+    const double angle = M_PI * k / 12;
+    const Eigen::Vector3d d = std::cos(angle) * u + std::sin(angle) * w;
+    widest = std::max(widest, query.ray_hit(mid, d) + query.ray_hit(mid, -d));
+  }
+  return widest;
+}
+
 // --- the graph being edited: adjacency sets over point indices --------------------------------
 // `alive` is read directly but changed only through set_alive and merge, which keep `live` (its
 // count) up to date: the pruning loops ask for it once per step.
@@ -600,7 +616,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     }
   }
 
-  // --- joints whose balls overlap along the chain between them are one junction ----------------
+  // --- joints close along their path, or closer than the body is wide, are one junction --------
   if (options.merge_joints) {
     std::vector<std::vector<int>> members(P);
     for (int p = 0; p < P; ++p) members[p] = {p};
@@ -641,9 +657,23 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
           }
           // Directly linked junctions (their domain surfaces touch: no body part between them)
           // are one junction while their balls are less than a ball apart; across a chain only
-          // overlapping balls merge.
+          // overlapping balls merge (a chain a ball long can be a torso: the cheetah's front and
+          // hind junctions, perturbed, came 0.94 balls apart along theirs).
           const double reach = chain.empty() ? std::min(radii[a], radii[b]) : 0.0;
-          if (gap >= reach) continue;
+          if (gap >= reach) {
+            // Nor is a body part one that is shorter than the body is wide across it: two
+            // junctions closer to each other than the widest chord through their midpoint are
+            // one, whatever lies between them (a palm with fingers hanging from two of its
+            // points, a chunky torso, or one junction split in two whose balls overlap, joined
+            // through a point beside them). A torso or a limb between two junctions is longer
+            // than it is wide. The straight segment must stay inside, or the chord measures
+            // another part.
+            const Eigen::Vector3d pa = points.row(a).transpose(), pb = points.row(b).transpose();
+            const double apart = (pa - pb).norm();
+            if (apart <= 0 || !query.segment_inside(pa, pb)) continue;
+            const double chord = widest_chord(query, pa, pb);
+            if (!std::isfinite(chord) || apart >= chord) continue;
+          }
           // Only across a bridge: merging the two ends of a cycle would fold it.
           std::vector<char> seen(graph.alive.size(), 0);
           for (int c : chain) seen[c] = 1;

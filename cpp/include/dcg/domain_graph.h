@@ -76,7 +76,8 @@ struct DomainGraphOptions {
   bool prune = true;               ///< prune non-end leaves (off: the raw tree + cycles)
   bool contract = true;            ///< contract links shorter than their larger radius
   bool merge_joints = true;        ///< merge joints whose balls overlap along their chain (or,
-                                   ///<    linked directly, are less than a ball apart)
+                                   ///<    linked directly, are less than a ball apart), or that
+                                   ///<    are closer than the body is wide across them
 };
 
 struct DomainGraph {
