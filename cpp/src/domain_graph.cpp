@@ -597,13 +597,17 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
         const Eigen::Vector3d pw = points.row(w).transpose();
         bump = segment_distance(pe, pv, pw) < std::min(radii[v], radii[w]);
         // The body may bend at v (a loop of the eight): its center line through w, v and
-        // another neighbour x is about the circle arc through them, and a straight link cuts
-        // inside that bend by up to a radius. The end is a bump when its ball reaches out of
-        // that tube (the smallest radius of the three) by less than kBumpReach of its radius;
+        // another neighbour x beyond v is about the circle arc through them, and a straight
+        // link cuts inside that bend by up to a radius. The end is a bump when its ball reaches
+        // out of that tube (the smallest radius of the three) by less than kBumpReach of it;
         // a limb reaches out by more than one (fertility's closest head: 1.1, the eight's
         // bumps under noise: 0.2-0.25).
         for (std::size_t j = i + 1; j < others.size() && !bump; ++j) {
           const int x = others[j];
+          // Only where the body runs through v (w and x on either side of it): through two
+          // neighbours on one side (two limbs' roots) the arc is most of a circle, far from
+          // the body.
+          if ((pw - pv).dot(points.row(x).transpose() - pv) >= 0) continue;
           const double tube = std::min({radii[v], radii[w], radii[x]});
           bump = arc_distance(pe, pw, pv, points.row(x).transpose()) + radii[e] <
                  (1 + kBumpReach) * tube;
