@@ -658,6 +658,27 @@ const DomainGraph& Extractor::domain_graph() {
           r = query().distance(q);
         }
       }
+      // A tip crumpled by noise all around its peak (octopus-low's tentacles, perturbed): the
+      // same inward chords from the working-mesh vertices within 0.03 of the peak, nearest
+      // first; the first one inside by both tests.
+      if (!(r > 0)) {
+        std::vector<std::pair<double, int>> near;
+        for (Eigen::Index v = 0; v < pm.working.V.rows(); ++v) {
+          const double d = (pm.working.V.row(v).transpose() - peak).norm();
+          if (d < 0.03) near.emplace_back(d, static_cast<int>(v));
+        }
+        std::sort(near.begin(), near.end());
+        for (const auto& [d, v] : near) {
+          (void)d;
+          double rv = 0;
+          const Eigen::Vector3d q = inward_point(pm.working, query(), v, toward, &rv);
+          if (rv > 0 && query().inside_by_parity(q)) {
+            p = q;
+            r = rv;
+            break;
+          }
+        }
+      }
       if (r > 0) {
         extra.emplace_back(p, r);
         extra_prong.push_back(static_cast<int>(e));
