@@ -20,6 +20,7 @@
 #include "dcg/force_field.h"
 #include "dcg/skeleton.h"
 #include "dcg/surface_query.h"
+#include "dcg/weights.h"
 #include "union_find.h"
 
 namespace dcg {
@@ -58,34 +59,26 @@ std::vector<int> face_adjacency(const Faces& F) {
   return adjacency;
 }
 
-// Whether every pair of `pts` sees each other (no segment between two of them meets the surface).
-// Distance from p to the segment [a, b].
-double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
-}
-
 // Distance from p to the circle arc that starts at a, passes through b and ends at c (the
 // segments a-b-c when the three points are about collinear).
 double arc_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                     const Eigen::Vector3d& c) {
   const Eigen::Vector3d ab = b - a, ac = c - a, n = ab.cross(ac);
   if (n.norm() <= 1e-9 * ab.norm() * ac.norm()) {
-    return std::min(segment_distance(p, a, b), segment_distance(p, b, c));
+    return std::min(point_segment_distance(p, a, b), point_segment_distance(p, b, c));
   }
   // Circumcenter o of a, b, c in their plane.
   const Eigen::Vector3d o =
       a + (ab.squaredNorm() * ac.cross(n) + ac.squaredNorm() * n.cross(ab)) / (2 * n.squaredNorm());
   const double R = (a - o).norm();
-  const Eigen::Vector3d u = (a - o) / R, w = n.normalized().cross(u);
+  const Eigen::Vector3d normal = n.normalized();
+  const Eigen::Vector3d u = (a - o) / R, w = normal.cross(u);
   auto angle = [&](const Eigen::Vector3d& x) {
     const double t = std::atan2((x - o).dot(w), (x - o).dot(u));
     return t < 0 ? t + 2 * M_PI : t;
   };
   const double tb = angle(b), tc = angle(c);
   // The point of the whole circle nearest to p, then whether it lies on the arc a -> b -> c.
-  const Eigen::Vector3d normal = n.normalized();
   const Eigen::Vector3d q = p - (p - o).dot(normal) * normal;
   double on_circle = std::hypot(R, (p - o).dot(normal));  // p above the center: every point
   double tq = 0;
@@ -98,6 +91,7 @@ double arc_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Ei
   return on_arc ? on_circle : std::min((p - a).norm(), (p - c).norm());
 }
 
+// Whether every pair of `pts` sees each other (no segment between two of them meets the surface).
 bool all_see_each_other(const SurfaceQuery& query, const Points& points, const std::vector<int>& pts) {
   std::vector<double> a, b;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -598,7 +592,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
       for (std::size_t i = 0; i < others.size() && !bump; ++i) {
         const int w = others[i];
         const Eigen::Vector3d pw = points.row(w).transpose();
-        bump = segment_distance(pe, pv, pw) < std::min(radii[v], radii[w]);
+        bump = point_segment_distance(pe, pv, pw) < std::min(radii[v], radii[w]);
         // The body may bend at v (a loop of the eight): its center line through w, v and
         // another neighbour x beyond v is about the circle arc through them, and a straight
         // link cuts inside that bend by up to a radius. The end is a bump when its ball reaches
@@ -607,12 +601,13 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
         // bumps under noise: 0.2-0.25).
         for (std::size_t j = i + 1; j < others.size() && !bump; ++j) {
           const int x = others[j];
+          const Eigen::Vector3d px = points.row(x).transpose();
           // Only where the body runs through v (w and x on either side of it): through two
           // neighbours on one side (two limbs' roots) the arc is most of a circle, far from
           // the body.
-          if ((pw - pv).dot(points.row(x).transpose() - pv) >= 0) continue;
+          if ((pw - pv).dot(px - pv) >= 0) continue;
           const double tube = std::min({radii[v], radii[w], radii[x]});
-          bump = arc_distance(pe, pw, pv, points.row(x).transpose()) + radii[e] <
+          bump = arc_distance(pe, pw, pv, px) + radii[e] <
                  (1 + kBumpReach) * tube;
         }
       }

@@ -668,10 +668,9 @@ const DomainGraph& Extractor::domain_graph() {
           if (d < 0.03) near.emplace_back(d, static_cast<int>(v));
         }
         std::sort(near.begin(), near.end());
-        for (const auto& [d, v] : near) {
-          (void)d;
+        for (const auto& candidate : near) {
           double rv = 0;
-          const Eigen::Vector3d q = inward_point(pm.working, query(), v, toward, &rv);
+          const Eigen::Vector3d q = inward_point(pm.working, query(), candidate.second, toward, &rv);
           if (rv > 0 && query().inside_by_parity(q)) {
             p = q;
             r = rv;
