@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <variant>
 
@@ -33,6 +34,9 @@ const std::vector<OptionEntry>& option_table() {
   static const std::vector<OptionEntry> table = {
       {{"target_faces", "Triangles of the uniform working mesh after remeshing (0: keep the input)",
         0, 2e6, true, ""}, &Options::target_faces},
+      {{"upsample", "1: remesh inputs smaller than target_faces / 2.5 up to target_faces (slower); "
+        "0: use them as they are (with at most one sample per two faces)", 0, 1, true, ""},
+       &Options::upsample},
       {{"samples", "Surface samples whose Voronoi vertices give the candidate balls", 100, 1e6,
         true, ""}, &Options::samples},
       {{"min_gap", "Gap kept between domain balls", 0, 0.5, false, "normalized length"},
@@ -352,6 +356,39 @@ Balls drop_balls_outside(Balls balls, const SurfaceQuery& query) {
   return balls;
 }
 
+// The middle of the inward chord from each face's centroid (along minus its normal), for the
+// faces whose chord ends on the surface and whose middle is inside: one point in the middle of
+// the shape behind every face, thin parts included.
+Points chord_midpoints(const Mesh& mesh, const SurfaceQuery& surface) {
+  const Eigen::Index nf = mesh.F.rows();
+  Points mid(nf, 3);
+  std::vector<char> ok(static_cast<std::size_t>(nf), 0);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nf, 512),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
+      const Eigen::Vector3d& n = surface.face_normal(static_cast<int>(f));
+      if (n.isZero()) continue;
+      const Eigen::Vector3d c =
+          (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3.0;
+      const Eigen::Vector3d start = c - 1e-7 * n;
+      const double h = surface.ray_hit(start, -n);
+      if (!std::isfinite(h)) continue;
+      const Eigen::Vector3d m = start - 0.5 * h * n;
+      if (!surface.inside(m)) continue;
+      mid.row(f) = m.transpose();
+      ok[static_cast<std::size_t>(f)] = 1;
+    }
+  });
+  Eigen::Index k = 0;
+  for (Eigen::Index f = 0; f < nf; ++f)
+    if (ok[static_cast<std::size_t>(f)]) mid.row(k++) = mid.row(f);
+  mid.conservativeResize(k, 3);
+  return mid;
+}
+
+// Fewest Voronoi samples of a small working mesh (Extractor::voronoi_balls).
+constexpr int kMinSmallSamples = 500;
+
 // --- keeping the skeleton inside the input surface ----------------------------------------------
 
 // The working mesh of stage 0 may bulge out of a remeshed input (concave places, thin parts): a
@@ -410,8 +447,42 @@ void keep_point_inside(Eigen::Ref<Eigen::RowVector3d> point, double r,
   }
 }
 
+// A polyline segment between two points inside can still cross the surface: a link the snake
+// could not route round the bend of a thin part (a cow's ear at the input's own resolution), or
+// a point that keep_point_inside() moved. Such a segment gets its midpoint, held inside like the
+// other points (radius interpolated from ra at the polyline's start to rb at its end), and each
+// half is checked again, at most 6 halvings deep.
+void keep_segments_inside(Points& poly, double ra, double rb, const SurfaceQuery& surface) {
+  const Eigen::Index last = poly.rows() - 1;
+  bool any = false;
+  for (Eigen::Index i = 0; i < last && !any; ++i)
+    any = surface.segment_blocked(poly.row(i).transpose(), poly.row(i + 1).transpose());
+  if (!any) return;
+  std::vector<Eigen::RowVector3d> out;
+  // Appends the points after p up to q (q included), t = their places along the polyline.
+  std::function<void(const Eigen::RowVector3d&, const Eigen::RowVector3d&, double, double, int)> refine =
+      [&](const Eigen::RowVector3d& p, const Eigen::RowVector3d& q, double tp, double tq, int depth) {
+        if (depth < 6 && surface.segment_blocked(p.transpose(), q.transpose())) {
+          const double tm = 0.5 * (tp + tq);
+          Eigen::RowVector3d m = 0.5 * (p + q);
+          keep_point_inside(m, (1 - tm) * ra + tm * rb, surface);
+          refine(p, m, tp, tm, depth + 1);
+          refine(m, q, tm, tq, depth + 1);
+        } else {
+          out.push_back(q);
+        }
+      };
+  out.push_back(poly.row(0));
+  for (Eigen::Index i = 0; i < last; ++i) {
+    refine(poly.row(i), poly.row(i + 1), static_cast<double>(i) / last,
+           static_cast<double>(i + 1) / last, 0);
+  }
+  poly.resize(static_cast<Eigen::Index>(out.size()), 3);
+  for (std::size_t i = 0; i < out.size(); ++i) poly.row(static_cast<Eigen::Index>(i)) = out[i];
+}
+
 // Skeleton (normalized units) against `surface`: nodes first, then polyline points (the ends of
-// each polyline are its nodes).
+// each polyline are its nodes), then the segments between them.
 void keep_inside(Skeleton& s, const SurfaceQuery& surface) {
   for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
     keep_point_inside(s.positions.row(i), s.radii[i], surface);
@@ -426,6 +497,7 @@ void keep_inside(Skeleton& s, const SurfaceQuery& surface) {
       const double t = static_cast<double>(i) / last;
       keep_point_inside(poly.row(i), (1 - t) * s.radii[a] + t * s.radii[b], surface);
     }
+    keep_segments_inside(poly, s.radii[a], s.radii[b], surface);
   }
 }
 
@@ -497,6 +569,7 @@ const PreparedMesh& Extractor::prepare() {
     PrepareOptions po;
     po.repair = options_.repair;
     po.target_faces = options_.target_faces;
+    po.upsample = options_.upsample != 0;
     po.seed = options_.seed;
     prepared_ = prepare_mesh(V_, F_, po, progress_, 0.0, 0.25);
     timed("prepare", now_seconds() - t0);
@@ -513,6 +586,13 @@ const Balls& Extractor::voronoi_balls() {
     const double t0 = now_seconds();
     VoronoiBallsOptions vo;
     vo.samples = options_.samples;
+    // A small working mesh (a small input kept as it is) gets one sample per two faces, at
+    // least 500: 4000 samples would cost more than the rest of the pipeline there, and the
+    // public meshes of 898 to 5,856 faces keep their ends, joints and loops with these.
+    const double faces = static_cast<double>(working.F.rows());
+    if (!options_.upsample && faces * 2.5 < options_.target_faces) {
+      vo.samples = std::min(vo.samples, std::max(kMinSmallSamples, static_cast<int>(faces / 2)));
+    }
     vo.seed = options_.seed;
     voronoi_ = drop_balls_outside(
         compute_voronoi_balls(working, query(), vo,
@@ -720,7 +800,12 @@ const Remapped& Extractor::remap() {
     waypoints << cp.shrunk, g.points, balls;
     RemapOptions ro;
     ro.snake_iterations = options_.snake_iterations;
-    remapped_ = remap_links(nodes, radii, g.links, force_field(), waypoints, ro);
+    // A link that leaves the shape where the waypoints hold no way round (a thin plate, such as
+    // a cow's ear at the input's own resolution, has few stage-1 balls) tries again with one
+    // more waypoint behind every face: the middle of its inward chord.
+    const SurfaceQuery& surface = query();
+    remapped_ = remap_links(nodes, radii, g.links, force_field(), waypoints, ro,
+                            [&] { return chord_midpoints(prepared_->working, surface); });
     timed("remap", now_seconds() - t0);
   }
   return *remapped_;

@@ -751,16 +751,27 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
   // Remesh to a uniform mesh of about target_faces triangles.
   if (options.target_faces > 0) {
     const double nf = static_cast<double>(out.working.F.rows());
-    const double target = options.target_faces;
-    const bool near = nf >= target / 2.5 && nf <= target * 2.5;
-    const bool skip = near && edge_length_variation(out.working.V, out.working.F) < 0.5;
+    int target = options.target_faces;
+    bool skip = false;
+    if (options.upsample) {
+      // Kept only near the target size and with even edge lengths.
+      skip = nf >= target / 2.5 && nf <= target * 2.5 &&
+             edge_length_variation(out.working.V, out.working.F) < 0.5;
+    } else if (nf <= target * 2.5) {
+      // Not larger than the target: kept, unless it is tiny or its triangles are very uneven
+      // (then remeshed, a small input only to kSmallRemeshFaces). The public meshes of 898 to
+      // 12,000 faces give the same skeletons from their own faces as remeshed to 20,000, at a
+      // fraction of the cost.
+      skip = nf >= kMinKeptFaces &&
+             edge_length_variation(out.working.V, out.working.F) < kMaxKeptVariation;
+      if (nf < target / 2.5) target = std::min(target, kSmallRemeshFaces);
+    }
     if (!skip) {
       const int goal = 4 * std::max(options.target_faces, internal::kMinRemeshFaces);
       if (nf > std::max(2.0 * goal, 150000.0)) {
         out.working = fast_reduce(out.working, goal, poll.part(0.3, 0.5));
       }
-      out.working = internal::remesh_uniform(out.working, options.target_faces,
-                                             poll.part(0.5, 0.85));
+      out.working = internal::remesh_uniform(out.working, target, poll.part(0.5, 0.85));
       out.remeshed = true;
     }
   }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <queue>
 
 #include <Eigen/Dense>
@@ -20,23 +21,103 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Resamples the polyline `path` into `count` points evenly spaced by arc length (ends kept).
+// Resamples the polyline `path` into at least `count` points spaced by arc length, with every
+// corner of `path` among them: each hop gets a share of the points by its length (at least one
+// segment), so every resampled segment lies on a hop. A hop of a route sees its end from its
+// start, so the resampled polyline stays inside; resampling across a corner would cut it, and a
+// corner next to the surface is where such a cut leaves the shape.
 Points resample(const std::vector<Eigen::Vector3d>& path, int count) {
-  std::vector<double> arc(path.size(), 0.0);
-  for (std::size_t i = 1; i < path.size(); ++i) arc[i] = arc[i - 1] + (path[i] - path[i - 1]).norm();
-  Points out(count, 3);
-  std::size_t seg = 0;
-  for (int k = 0; k < count; ++k) {
-    const double s = arc.back() * k / (count - 1);
-    while (seg + 2 < path.size() && arc[seg + 1] < s) ++seg;
-    const double len = arc[seg + 1] - arc[seg];
-    const double t = len > 0 ? std::clamp((s - arc[seg]) / len, 0.0, 1.0) : 0.0;
-    out.row(k) = ((1 - t) * path[seg] + t * path[seg + 1]).transpose();
+  const int hops = static_cast<int>(path.size()) - 1;
+  auto length = [&](int h) { return (path[h + 1] - path[h]).norm(); };
+  double total = 0;
+  for (int h = 0; h < hops; ++h) total += length(h);
+  std::vector<int> pieces(hops, 1);
+  int used = hops;
+  for (int h = 0; h < hops && total > 0; ++h) {
+    const int share = static_cast<int>(std::floor((count - 1) * length(h) / total));
+    if (share > 1) {
+      used += share - 1;
+      pieces[h] = share;
+    }
   }
-  out.row(0) = path.front().transpose();
-  out.row(count - 1) = path.back().transpose();
+  // What rounding left goes to the hops with the longest pieces.
+  for (; used < count - 1; ++used) {
+    int best = 0;
+    for (int h = 1; h < hops; ++h)
+      if (length(h) / pieces[h] > length(best) / pieces[best]) best = h;
+    ++pieces[best];
+  }
+  Points out(used + 1, 3);
+  Eigen::Index k = 0;
+  for (int h = 0; h < hops; ++h)
+    for (int j = 0; j < pieces[h]; ++j)
+      out.row(k++) = (path[h] + (path[h + 1] - path[h]) * (static_cast<double>(j) / pieces[h])).transpose();
+  out.row(k) = path.back().transpose();
   return out;
 }
+
+// The nearest other points of a point (unordered), by a uniform grid of about one point a cell
+// searched in growing shells of cells.
+class NeighbourGrid {
+ public:
+  explicit NeighbourGrid(const std::vector<Eigen::Vector3d>& pts) : pts_(pts) {
+    lo_ = hi_ = pts[0];
+    for (const auto& p : pts) {
+      lo_ = lo_.cwiseMin(p);
+      hi_ = hi_.cwiseMax(p);
+    }
+    const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-12);
+    cell_ = std::max(std::cbrt(extent.prod() / static_cast<double>(pts.size())), 1e-3 * extent.maxCoeff());
+    dims_ = (extent / cell_).array().floor().cast<int>().cwiseMax(0) + 1;
+    grid_.resize(static_cast<std::size_t>(dims_.prod()));
+    for (int i = 0; i < static_cast<int>(pts.size()); ++i) grid_[index(cell_of(pts[i]))].push_back(i);
+  }
+
+  /// The k nearest points to point i (i excluded).
+  void nearest(int i, int k, std::vector<int>& out) const {
+    const Eigen::Vector3i c = cell_of(pts_[i]);
+    found_.clear();
+    for (int ring = 0;; ++ring) {
+      // The cells at Chebyshev distance `ring` from c.
+      for (int z = c.z() - ring; z <= c.z() + ring; ++z) {
+        for (int y = c.y() - ring; y <= c.y() + ring; ++y) {
+          for (int x = c.x() - ring; x <= c.x() + ring; ++x) {
+            if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != ring) continue;
+            if (x < 0 || y < 0 || z < 0 || x >= dims_.x() || y >= dims_.y() || z >= dims_.z()) continue;
+            for (const int j : grid_[index(Eigen::Vector3i(x, y, z))]) {
+              if (j != i) found_.emplace_back((pts_[j] - pts_[i]).squaredNorm(), j);
+            }
+          }
+        }
+      }
+      if (ring >= dims_.maxCoeff()) break;  // every cell seen
+      // A point not seen yet is more than ring cells away; found_[k - 1] is the k-th nearest
+      // seen once partitioned.
+      if (static_cast<int>(found_.size()) < k) continue;
+      std::nth_element(found_.begin(), found_.begin() + (k - 1), found_.end());
+      if (found_[k - 1].first <= (ring * cell_) * (ring * cell_)) break;
+    }
+    if (static_cast<int>(found_.size()) > k) {
+      std::nth_element(found_.begin(), found_.begin() + (k - 1), found_.end());
+      found_.resize(k);
+    }
+    out.clear();
+    for (const auto& f : found_) out.push_back(f.second);
+  }
+
+ private:
+  Eigen::Vector3i cell_of(const Eigen::Vector3d& p) const {
+    return ((p - lo_) / cell_).array().floor().cast<int>().min(dims_.array() - 1).max(0).matrix();
+  }
+  int index(const Eigen::Vector3i& c) const { return (c.z() * dims_.y() + c.y()) * dims_.x() + c.x(); }
+
+  const std::vector<Eigen::Vector3d>& pts_;
+  Eigen::Vector3d lo_, hi_;
+  double cell_ = 1;
+  Eigen::Vector3i dims_;
+  std::vector<std::vector<int>> grid_;
+  mutable std::vector<std::pair<double, int>> found_;  // scratch (one grid per route call)
+};
 
 // Shortest path from a to b through waypoints that see each other (each hop a segment that does
 // not meet the surface), among the waypoints in the ellipsoid |w - a| + |w - b| <= stretch |a - b|.
@@ -50,8 +131,15 @@ std::vector<Eigen::Vector3d> route(const Eigen::Vector3d& a, const Eigen::Vector
     const Eigen::Vector3d w = waypoints.row(i).transpose();
     if ((w - a).norm() + (w - b).norm() <= stretch * chord) pts.push_back(w);
   }
-  if (pts.size() > 1500) pts.resize(1500);  // bounds the O(k^2) visibility tests
+  // Up to 1500 points every popped point tries all the others (the shortest route, long hops
+  // allowed). Past that, O(k^2) rays would cost seconds when no route exists, so a point tries
+  // only its 48 nearest (at most 48 rays a point). Cutting the list to 1500 instead dropped the
+  // waypoints that a route through a thin part needed.
+  constexpr int kAllPairs = 1500, kNearest = 48;
   const int n = static_cast<int>(pts.size());
+  std::optional<NeighbourGrid> grid;
+  if (n > kAllPairs) grid.emplace(pts);
+  std::vector<int> near;
   std::vector<double> dist(n, kInf);
   std::vector<int> prev(n, -1);
   std::vector<char> done(n, 0);
@@ -59,20 +147,26 @@ std::vector<Eigen::Vector3d> route(const Eigen::Vector3d& a, const Eigen::Vector
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
   heap.push({0.0, 0});
+  auto relax = [&](int u, int v, double d) {
+    if (done[v]) return;
+    const double nd = d + (pts[u] - pts[v]).norm();
+    if (nd >= dist[v] || query.segment_blocked(pts[u], pts[v])) return;
+    dist[v] = nd;
+    prev[v] = u;
+    heap.push({nd, v});
+  };
   while (!heap.empty()) {
     const auto [d, u] = heap.top();
     heap.pop();
     if (done[u]) continue;
     done[u] = 1;
     if (u == 1) break;
-    for (int v = 0; v < n; ++v) {
-      if (done[v]) continue;
-      const double nd = d + (pts[u] - pts[v]).norm();
-      if (nd >= dist[v]) continue;
-      if (query.segment_blocked(pts[u], pts[v])) continue;
-      dist[v] = nd;
-      prev[v] = u;
-      heap.push({nd, v});
+    if (!grid) {
+      for (int v = 0; v < n; ++v) relax(u, v, d);
+    } else {
+      grid->nearest(u, kNearest, near);
+      for (const int v : near) relax(u, v, d);
+      if (u != 1) relax(u, 1, d);  // b itself may be farther than the nearest, and in view
     }
   }
   if (!done[1]) return {};
@@ -99,7 +193,6 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
   const double mean_radius = std::max(0.5 * (ra + rb), 1e-9), big_radius = std::max({ra, rb, 1e-9});
   const int inner = std::clamp(static_cast<int>(std::ceil(chord / (o.spacing * big_radius))) - 1,
                                o.min_inner_points, std::max(o.min_inner_points, o.max_inner_points));
-  const int count = inner + 2;
   // The start: the straight link, or a path through the waypoints when it leaves the shape.
   std::vector<Eigen::Vector3d> path = {a, b};
   if (chord > 0 && query.segment_blocked(a, b)) {
@@ -112,7 +205,8 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
       out.rerouted = true;
     }
   }
-  Points p = resample(path, count);
+  Points p = resample(path, inner + 2);
+  const int count = static_cast<int>(p.rows());  // more than inner + 2 on a route of many hops
   out.polyline = p;
   if (chord <= 0 || o.snake_iterations <= 0) return out;
 
@@ -126,7 +220,7 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
     r[i] = std::max((1 - s) * ra + s * rb, 1e-9);
   }
   // Internal stiffness on the inner points (ends fixed): K = a D'D + b G'G.
-  const int m = inner;
+  const int m = count - 2;
   Eigen::MatrixXd D = Eigen::MatrixXd::Zero(m, m + 2), G = Eigen::MatrixXd::Zero(m + 1, m + 2);
   for (int j = 0; j < m; ++j) {
     D(j, j) = 1;
@@ -192,7 +286,12 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
       if (delta.norm() > cap) delta *= cap / delta.norm();
       const Eigen::Vector3d from = p.row(i).transpose();
       const Eigen::Vector3d to = from + delta.x() * e1 + delta.y() * e2;
-      if (query.segment_blocked(from, to)) {
+      // The point must get there without crossing the surface, and its polyline segments to
+      // both neighbours (the one before already moved this iteration) must stay inside too: a
+      // point that is inside can still pull its segment across a concave fold of the surface.
+      if (query.segment_blocked(from, to) ||
+          query.segment_blocked(p.row(i - 1).transpose(), to) ||
+          query.segment_blocked(to, p.row(i + 1).transpose())) {
         ++out.refused;
         continue;
       }
@@ -209,7 +308,8 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
 }  // namespace
 
 Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Edges& links,
-                     const ForceField& field, const Points& waypoints, const RemapOptions& options) {
+                     const ForceField& field, const Points& waypoints, const RemapOptions& options,
+                     const std::function<Points()>& more_waypoints) {
   if (options.snake_iterations < 0 || options.min_inner_points < 1 || options.spacing <= 0) {
     throw InputError("remap: bad options (snake_iterations >= 0, min_inner_points >= 1)");
   }
@@ -224,6 +324,20 @@ Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Ed
     results[l] = snake_link(nodes.row(a).transpose(), nodes.row(b).transpose(), radii[a], radii[b],
                             field, waypoints, options);
   });
+  // Links with no route: again, with the extra waypoints as well.
+  std::vector<int> unrouted;
+  for (int l = 0; l < K; ++l)
+    if (results[l].unrouted) unrouted.push_back(l);
+  if (!unrouted.empty() && more_waypoints) {
+    const Points more = more_waypoints();
+    Points all(waypoints.rows() + more.rows(), 3);
+    all << waypoints, more;
+    tbb::parallel_for(0, static_cast<int>(unrouted.size()), [&](int k) {
+      const int l = unrouted[k], a = links(l, 0), b = links(l, 1);
+      results[l] = snake_link(nodes.row(a).transpose(), nodes.row(b).transpose(), radii[a],
+                              radii[b], field, all, options);
+    });
+  }
   for (int l = 0; l < K; ++l) {
     out.polylines[l] = std::move(results[l].polyline);
     out.iterations[l] = results[l].iterations;

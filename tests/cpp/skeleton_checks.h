@@ -23,6 +23,7 @@ struct SkeletonQuality {
   int unlabelled_faces = 0;     ///< input faces with label -1
   int kind_mismatches = 0;      ///< nodes whose kind disagrees with their degree
   int polyline_mismatches = 0;  ///< polylines that do not start / end at their link's nodes
+  int crossing_segments = 0;    ///< polyline segments that cross the input's surface
   double inside_percent() const { return points ? 100.0 * inside / points : 100.0; }
 };
 
@@ -68,6 +69,11 @@ inline SkeletonQuality skeleton_quality(const Mesh& input, const Skeleton& s) {
       ++q.points;
       q.inside += surface.inside_by_parity(p.row(i).transpose());
     }
+    // Two points inside with the segment between them out through a fold: a bone out of the
+    // skin all the same.
+    for (Eigen::Index i = 0; i + 1 < p.rows(); ++i) {
+      q.crossing_segments += surface.segment_blocked(p.row(i).transpose(), p.row(i + 1).transpose());
+    }
   }
   for (Eigen::Index f = 0; f < s.face_labels.size(); ++f) q.unlabelled_faces += s.face_labels[f] < 0;
   return q;
@@ -77,9 +83,9 @@ inline std::string describe(const SkeletonQuality& q) {
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 "%d nodes (%d ends, %d joints, %d connections), %d links, %d cycles, %d components, "
-                "%.1f%% of %d points inside, %d faces unlabelled",
+                "%.1f%% of %d points inside, %d segments crossing out, %d faces unlabelled",
                 q.nodes, q.ends, q.joints, q.connections, q.links, q.cycles, q.components,
-                q.inside_percent(), q.points, q.unlabelled_faces);
+                q.inside_percent(), q.points, q.crossing_segments, q.unlabelled_faces);
   return buf;
 }
 

@@ -158,6 +158,29 @@ TEST(Prepare, GenusOfSphereTorusAndTwoTori) {
   EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
 }
 
+// Without upsample (the Extractor's default), an input under target_faces / 2.5 is its own
+// working mesh when it has at least kMinKeptFaces even faces; a tiny one is remeshed, to about
+// kSmallRemeshFaces only; with upsample, both go up to target_faces.
+TEST(Prepare, SmallInputsAreKeptUnlessTinyWithoutUpsample) {
+  const Mesh torus = test::torus(1.0, 0.35, 64, 32);  // 4096 even faces
+  const Mesh tiny = test::torus(1.0, 0.35, 16, 8);    // 256 faces
+  dcg::PrepareOptions o;
+  o.target_faces = 20000;
+  o.upsample = false;
+  const dcg::PreparedMesh kept = dcg::prepare_mesh(torus.V, torus.F, o);
+  EXPECT_FALSE(kept.remeshed);
+  EXPECT_EQ(kept.working.F.rows(), torus.F.rows());
+  const dcg::PreparedMesh small = dcg::prepare_mesh(tiny.V, tiny.F, o);
+  EXPECT_TRUE(small.remeshed);
+  EXPECT_GT(small.working.F.rows(), dcg::kSmallRemeshFaces / 2);
+  EXPECT_LT(small.working.F.rows(), 2 * dcg::kSmallRemeshFaces);
+  EXPECT_EQ(small.genus, 1);
+  o.upsample = true;
+  const dcg::PreparedMesh up = dcg::prepare_mesh(torus.V, torus.F, o);
+  EXPECT_TRUE(up.remeshed);
+  EXPECT_GT(up.working.F.rows(), 10000);
+}
+
 TEST(Prepare, RemeshingReachesAboutTheTargetAndMapsNearby) {
   const Mesh m = test::capsule(0.5, 2.0, 8, 24, 6);  // few, long triangles
   dcg::PrepareOptions o;

@@ -6,7 +6,8 @@ import pytest
 import dcg
 from conftest import cube, uv_sphere
 
-FAST = {"samples": 1200, "target_faces": 5000}
+# upsample: these tests look at stage 0's remeshing and at end points on the remeshed ellipsoid.
+FAST = {"samples": 1200, "target_faces": 5000, "upsample": 1}
 
 
 def closed_oriented(F):

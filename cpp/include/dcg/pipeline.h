@@ -29,8 +29,11 @@ struct Options {
   // Stage 0
   Repair repair = Repair::Auto;  ///< "auto": wrap open / non-manifold input; "none": raise
   int target_faces = 20000;      ///< working-mesh size after uniform remeshing (0: no remesh)
+  int upsample = 0;              ///< 1: remesh small inputs up to target_faces (slower; see
+                                 ///<    PrepareOptions::upsample); 0: keep them as they are
   // Stage 1
-  int samples = 4000;            ///< surface samples for the Voronoi balls
+  int samples = 4000;            ///< surface samples for the Voronoi balls (at most; a small
+                                 ///<    working mesh gets max(500, faces / 2), see voronoi_balls)
   // Stage 2
   double min_gap = 0.005;        ///< gap between domain balls
   double min_radius = 0.002;     ///< smallest domain ball

@@ -23,11 +23,23 @@ struct PrepareOptions {
   Repair repair = Repair::Auto;
   /// Uniform remeshing target (triangles of the working mesh); 0 keeps the welded input.
   int target_faces = 20000;
+  /// true: every input is remeshed to target_faces unless it already has between 1/2.5 and 2.5
+  /// times as many faces with even edge lengths (coefficient of variation below 0.5). false:
+  /// inputs of at most 2.5 x target_faces faces are kept as they are when they have at least
+  /// kMinKeptFaces faces with a variation below kMaxKeptVariation, so that small inputs cost
+  /// little (else remeshed; one under target_faces / 2.5 only to kSmallRemeshFaces).
+  /// The Extractor passes Options::upsample.
+  bool upsample = true;
   /// Vertices closer than this (normalized units) are welded.
   double weld_tolerance = 1e-7;
   /// Seed for every randomized step of the stage.
   unsigned seed = 0;
 };
+
+/// With upsample off (PrepareOptions::upsample).
+constexpr int kMinKeptFaces = 800;
+constexpr double kMaxKeptVariation = 1.0;
+constexpr int kSmallRemeshFaces = 4000;
 
 /// What stage 0 found in the input (after welding and dropping degenerate faces).
 struct MeshReport {

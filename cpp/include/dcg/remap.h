@@ -13,9 +13,11 @@
 // r^(n+2) (r the local radius, n the field's exponent) so that it is a length. The gradient is
 // the sampled field's own (ForceField::at_with_gradient, one fan of rays per point and step):
 // four times cheaper than the central differences of ALGORITHM.md, which it matches (tested). At most `snake_iterations` steps; a link stops when no point moves more than
-// `tolerance` x its radius (at least half the link's mean radius). A move whose segment meets the surface is refused (the point stays).
+// `tolerance` x its radius (at least half the link's mean radius). A move whose segment meets the surface, or that would pull either of the point's polyline
+// segments across it, is refused (the point stays).
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -49,9 +51,13 @@ struct Remapped {
 
 /// nodes: #N by 3 node positions inside the shape; radii: #N distance to the surface; links:
 /// #K by 2 node pairs; waypoints: #W by 3 points inside the shape (for links that leave it).
+/// more_waypoints (optional): called once when some link found no route through `waypoints`;
+/// those links try again through both (denser points, costlier to make: see pipeline.cpp's
+/// chord_midpoints).
 /// Links run in parallel (TBB); the result does not depend on threads.
 Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Edges& links,
                      const ForceField& field, const Points& waypoints,
-                     const RemapOptions& options = {});
+                     const RemapOptions& options = {},
+                     const std::function<Points()>& more_waypoints = {});
 
 }  // namespace dcg
