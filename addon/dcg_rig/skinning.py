@@ -27,9 +27,13 @@ def envelope_weights(points, heads, tails, head_radii, tail_radii,
     """Return sparse weights (rows, cols, values) of `points` to bones by envelope distance.
 
     Each bone is a capsule whose radius goes from its head radius to its tail radius (the
-    skeleton's distance to the surface). A point's distance to a bone is measured in units
-    of that radius, q = d / r, and weighted 1 / q^4 over its `max_influences` nearest bones,
-    then normalized. Never fails: every point gets weights summing to 1.
+    skeleton's distance to the surface), but never less than the bone's distance to its
+    nearest point: on a coarse mesh the faces pass closer to an end point than any vertex
+    does, and a tip vertex several radii from its own bone went to the wider bones around it
+    (posing the bone then left its own tip in place). A point's distance to a bone is
+    measured in units of that radius, q = d / r, and weighted 1 / q^4 over its
+    `max_influences` nearest bones, then normalized. Never fails: every point gets weights
+    summing to 1.
 
     points  #P by 3, heads/tails  #B by 3, head_radii/tail_radii  #B.
     """
@@ -40,6 +44,13 @@ def envelope_weights(points, heads, tails, head_radii, tail_radii,
     head_radii = np.maximum(np.asarray(head_radii, dtype=float), 1e-3 * scale)
     tail_radii = np.maximum(np.asarray(tail_radii, dtype=float), 1e-3 * scale)
     keep = min(max_influences, len(heads))
+    nearest_point = np.full(len(heads), np.inf)
+    for begin in range(0, len(points), chunk):
+        distance, _ = segment_distances(points[begin:begin + chunk], heads, tails)
+        nearest_point = np.minimum(nearest_point, distance.min(axis=0, initial=np.inf))
+    reach = np.where(np.isfinite(nearest_point), nearest_point, 0.0)
+    head_radii = np.maximum(head_radii, reach)
+    tail_radii = np.maximum(tail_radii, reach)
     rows, cols, values = [], [], []
     for begin in range(0, len(points), chunk):
         block = points[begin:begin + chunk]

@@ -89,6 +89,24 @@ def test_envelope_weights_are_normalized_with_at_most_four_influences():
     assert (values > 0).all() and cols.max() < 9
 
 
+def test_envelope_weights_give_a_tip_to_its_own_thin_bone():
+    # A coarse mesh: the end bone's tail radius (its distance to the faces) is a tenth of its
+    # distance to the nearest vertex, the tip. Measured in that radius the tip was 10 radii
+    # from its own bone and under 2 from the wide bone beside it, and got none of the end
+    # bone's weight; the radius now reaches the bone's nearest point.
+    heads = np.array([[0.0, 0, 0], [0.0, 0, 0]])
+    tails = np.array([[-2.0, 0, 0], [2.0, 0, 0]])  # a wide body bone, a thin end bone
+    head_radii, tail_radii = np.array([1.0, 0.1]), np.array([1.0, 0.01])
+    tip = np.array([[2.1, 0, 0]])
+    body = np.array([[-1.0, 1.0, 0], [-1.0, -1.0, 0], [1.0, 1.0, 0], [1.0, -1.0, 0]])
+    points = np.vstack([body, tip])
+    rows, cols, values = skinning.envelope_weights(points, heads, tails, head_radii, tail_radii)
+    tip_weight = values[(rows == len(points) - 1) & (cols == 1)].sum()
+    assert tip_weight > 0.9
+    body_weight = values[(rows == 0) & (cols == 0)].sum()  # the body keeps its own bone
+    assert body_weight > 0.5
+
+
 def test_engine_kwargs_undo_blenders_float32_rounding():
     specs = options.option_specs(dcg.OPTIONS)
     kwargs = options.engine_kwargs(specs, {"tau": np.float32(0.85), "repair": "none"})
