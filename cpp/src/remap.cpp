@@ -66,8 +66,10 @@ class NeighbourGrid {
       lo_ = lo_.cwiseMin(p);
       hi_ = hi_.cwiseMax(p);
     }
-    const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-12);
-    cell_ = std::max(std::cbrt(extent.prod() / static_cast<double>(pts.size())), 1e-3 * extent.maxCoeff());
+    // Each side at least 1/100 of the longest, so that points spread on a plane or a line get
+    // cells of a few points each, not a million empty ones.
+    const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-2 * (hi_ - lo_).maxCoeff()).cwiseMax(1e-12);
+    cell_ = std::cbrt(extent.prod() / static_cast<double>(pts.size()));
     dims_ = (extent / cell_).array().floor().cast<int>().cwiseMax(0) + 1;
     grid_.resize(static_cast<std::size_t>(dims_.prod()));
     for (int i = 0; i < static_cast<int>(pts.size()); ++i) grid_[index(cell_of(pts[i]))].push_back(i);

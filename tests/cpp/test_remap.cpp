@@ -23,6 +23,16 @@ struct TorusField {
   dcg::ForceField field{query};
 };
 
+// Every segment of each polyline stays inside (a segment between two inside points may not
+// cross the surface either).
+void expect_segments_inside(const dcg::Remapped& r, const dcg::SurfaceQuery& query) {
+  for (const dcg::Points& p : r.polylines) {
+    for (Eigen::Index i = 0; i + 1 < p.rows(); ++i) {
+      EXPECT_FALSE(query.segment_blocked(p.row(i).transpose(), p.row(i + 1).transpose())) << i;
+    }
+  }
+}
+
 TEST(Remap, SnakeFollowsTheMiddleOfACurvedTube) {
   TorusField t;
   const double a = 60 * M_PI / 180;
@@ -70,6 +80,52 @@ TEST(Remap, ALinkThatLeavesTheShapeIsRouted) {
     EXPECT_TRUE(t.query->inside(p.row(i).transpose())) << i;
     EXPECT_LT(off_core(p.row(i).transpose()), 0.25) << i;
   }
+  expect_segments_inside(r, *t.query);
+}
+
+TEST(Remap, ARouteThroughThousandsOfWaypointsFindsItsWay) {
+  // Past 1500 waypoints in the ellipsoid each point tries only its nearest (a grid). 4000
+  // points inside the ring, none near the straight link's middle (the hole).
+  TorusField t;
+  dcg::Points nodes(2, 3);
+  nodes << 1, 0, 0, -1, 0, 0;
+  dcg::Edges links(1, 2);
+  links << 0, 1;
+  dcg::Points cloud(4000, 3);
+  for (int i = 0; i < 4000; ++i) {
+    const double u = 2 * M_PI * i / 4000, v = 2 * M_PI * ((i * 37) % 4000) / 4000.0,
+                 rho = 0.2 * ((i * 53) % 100) / 100.0;
+    cloud.row(i) << (1 + rho * std::cos(v)) * std::cos(u), (1 + rho * std::cos(v)) * std::sin(u), rho * std::sin(v);
+  }
+  const dcg::Remapped r = dcg::remap_links(nodes, Eigen::VectorXd::Constant(2, 0.3), links, t.field, cloud);
+  EXPECT_EQ(r.rerouted[0], 1);
+  EXPECT_EQ(r.unrouted, 0);
+  expect_segments_inside(r, *t.query);
+  for (Eigen::Index i = 0; i < r.polylines[0].rows(); ++i) {
+    EXPECT_LT(off_core(r.polylines[0].row(i).transpose()), 0.3) << i;
+  }
+}
+
+TEST(Remap, ALinkWithNoRouteTriesTheExtraWaypoints) {
+  // No waypoint at all: the link has no route until the extra ones (asked for once) come.
+  TorusField t;
+  dcg::Points nodes(2, 3);
+  nodes << 1, 0, 0, -1, 0, 0;
+  dcg::Edges links(1, 2);
+  links << 0, 1;
+  int asked = 0;
+  auto ring = [&] {
+    ++asked;
+    dcg::Points pts(24, 3);
+    for (int i = 0; i < 24; ++i) pts.row(i) << std::cos(2 * M_PI * i / 24), std::sin(2 * M_PI * i / 24), 0;
+    return pts;
+  };
+  const dcg::Remapped r = dcg::remap_links(nodes, Eigen::VectorXd::Constant(2, 0.3), links, t.field,
+                                           dcg::Points(0, 3), {}, ring);
+  EXPECT_EQ(asked, 1);
+  EXPECT_EQ(r.unrouted, 0);
+  EXPECT_EQ(r.rerouted[0], 1);
+  expect_segments_inside(r, *t.query);
 }
 
 TEST(Remap, NoIterationsKeepsTheStraightLink) {
