@@ -100,6 +100,27 @@ struct EdgeTable {
   }
 };
 
+// Edges of a closed, consistently oriented mesh whose two faces fold flat onto each other:
+// their unit normals opposite to within 1e-8 (a dihedral angle of about 1e-4 rad or less).
+int folded_edges(const Mesh& mesh) {
+  const Eigen::Index nf = mesh.F.rows();
+  Eigen::MatrixX3d normal(nf, 3);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                             c = mesh.V.row(mesh.F(f, 2));
+    const Eigen::RowVector3d n = (b - a).cross(c - a);
+    normal.row(f) = n.norm() > 0 ? (n / n.norm()).eval() : Eigen::RowVector3d::Zero();
+  }
+  const EdgeTable table(mesh.F, [] {});
+  int folds = 0;
+  table.for_each_edge([&](std::size_t i, std::size_t j) {
+    if (j - i != 2) return;
+    const double dot = normal.row(table.half[i].second).dot(normal.row(table.half[i + 1].second));
+    folds += dot < -1.0 + 1e-8;
+  });
+  return folds;
+}
+
 struct Topology {
   int edges = 0;
   int border_edges = 0;
@@ -723,19 +744,9 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
   rep.non_manifold_vertices = topo.non_manifold_vertices;
   rep.components = topo.components;
   rep.orientable = topo.orientable;
-  const bool needs_repair = !rep.closed_manifold() || rep.components > 1;
-
-  if (needs_repair) {
-    if (options.repair == Repair::None) {
-      throw InputError("the mesh is not a single closed manifold: " + problem_list(topo) +
-                       "; use repair='auto' to wrap it into a closed proxy");
-    }
-    double alpha = std::clamp(0.6 * topo.largest_hole, 0.01, 0.1);
-    if (topo.border_edges == 0) alpha = 0.01;
-    out.working = internal::alpha_wrap(clean, alpha, alpha / 30.0, poll.part(0.1, 0.3));
-    out.repaired = true;
-    out.wrap_alpha = alpha;
-  } else {
+  const bool closed = rep.closed_manifold() && rep.components <= 1;
+  int folds = 0;
+  if (closed) {
     // A closed manifold whose faces fold flat onto each other (found by fuzzing: an octahedron
     // with its centre on an edge) encloses no volume, and CGAL's isotropic remeshing crashes
     // on it (SEGV in tangential_relaxation). Its vertices are not in one plane, so the flat
@@ -745,6 +756,28 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
       throw InputError("the mesh encloses no volume: it is closed, but its faces lie flat on "
                        "each other");
     }
+    // One flat fold is enough for the same crash (fuzzing again: two faces folded onto each
+    // other on a pyramid that does enclose a volume): such a mesh is repaired like a broken one.
+    folds = folded_edges(clean);
+  }
+  const bool needs_repair = !closed || folds > 0;
+
+  if (needs_repair) {
+    if (options.repair == Repair::None) {
+      if (folds > 0) {
+        throw InputError("the surface folds flat onto itself at " + std::to_string(folds) +
+                         " edge(s) (two faces lie on each other); use repair='auto' to wrap "
+                         "it into a closed proxy");
+      }
+      throw InputError("the mesh is not a single closed manifold: " + problem_list(topo) +
+                       "; use repair='auto' to wrap it into a closed proxy");
+    }
+    double alpha = std::clamp(0.6 * topo.largest_hole, 0.01, 0.1);
+    if (topo.border_edges == 0) alpha = 0.01;
+    out.working = internal::alpha_wrap(clean, alpha, alpha / 30.0, poll.part(0.1, 0.3));
+    out.repaired = true;
+    out.wrap_alpha = alpha;
+  } else {
     out.working = std::move(clean);
   }
 

@@ -151,6 +151,19 @@ def test_closed_mesh_folded_flat_is_value_error():
                 dcg.Extractor(V, F, repair=repair, target_faces=target_faces).prepare()
 
 
+def test_closed_mesh_with_one_flat_fold_is_wrapped_or_value_error():
+    # Found by fuzzing (tests/fuzz/corpus/prepare/crash-remesh-flat-fold-pyramid): a closed
+    # pyramid that encloses a volume, but two of its faces fold flat onto each other; CGAL's
+    # remeshing crashed on it (SEGV in tangential_relaxation) at any target size.
+    V = np.array([[1.0, 0, 0], [-1, -4, 0.1], [0, 0, 1], [0, 0, 3.1], [1.3, 0, 1.6], [1, 0, 0]])
+    F = np.array([[2, 0, 2], [4, 2, 1], [4, 1, 3], [4, 3, 5], [2, 0, 1], [0, 3, 1], [4, 5, 2]])
+    for target_faces in (64, 20000):
+        with pytest.raises(ValueError, match="folds flat"):
+            dcg.Extractor(V, F, repair="none", target_faces=target_faces).prepare()
+        pm = dcg.Extractor(V, F, repair="auto", target_faces=target_faces).prepare()
+        assert pm.repaired and pm.genus == 0
+
+
 def test_collinear_vertices_are_value_error():
     V = np.column_stack([np.linspace(0, 1, 8), np.zeros(8), np.zeros(8)])
     F = np.array([[0, 1, 2], [2, 3, 4], [4, 5, 6], [5, 6, 7]])
