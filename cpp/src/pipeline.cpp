@@ -483,11 +483,14 @@ void keep_segments_inside(Points& poly, double ra, double rb, const SurfaceQuery
 
 // Skeleton (normalized units) against `surface`: nodes first, then polyline points (the ends of
 // each polyline are its nodes), then the segments between them.
-void keep_inside(Skeleton& s, const SurfaceQuery& surface) {
+// `poll` (throttled) is called between nodes and links, for cancellation.
+void keep_inside(Skeleton& s, const SurfaceQuery& surface, const std::function<void()>& poll) {
   for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    poll();
     keep_point_inside(s.positions.row(i), s.radii[i], surface);
   }
   for (Eigen::Index l = 0; l < s.links.rows(); ++l) {
+    poll();
     Points& poly = s.polylines[l];
     const int a = s.links(l, 0), b = s.links(l, 1);
     const Eigen::Index last = poly.rows() - 1;
@@ -883,11 +886,11 @@ const Skeleton& Extractor::skeleton() {
         for (Eigen::Index i = 0; i < V_.rows(); ++i) normalized.V.row(i) = (V_.row(i) - pm.offset) / pm.scale;
         normalized.F = F_;
         // Millions of input faces take a second or more: polled for cancellation.
-        const SurfaceQuery input_surface(normalized,
-                                         internal::throttled_poll(progress_, "skeleton", 0.97));
-        keep_inside(s, input_surface);
+        const auto poll = internal::throttled_poll(progress_, "skeleton", 0.97);
+        const SurfaceQuery input_surface(normalized, poll);
+        keep_inside(s, input_surface, poll);
       } else {
-        keep_inside(s, query());
+        keep_inside(s, query(), internal::throttled_poll(progress_, "skeleton", 0.97));
       }
       timed("skeleton", now_seconds() - t0);
     } catch (const Cancelled&) {
