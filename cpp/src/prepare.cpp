@@ -745,7 +745,6 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
   rep.components = topo.components;
   rep.orientable = topo.orientable;
   const bool closed = rep.closed_manifold() && rep.components <= 1;
-  int folds = 0;
   if (closed) {
     // A closed manifold whose faces fold flat onto each other (found by fuzzing: an octahedron
     // with its centre on an edge) encloses no volume, and CGAL's isotropic remeshing crashes
@@ -756,19 +755,11 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
       throw InputError("the mesh encloses no volume: it is closed, but its faces lie flat on "
                        "each other");
     }
-    // One flat fold is enough for the same crash (fuzzing again: two faces folded onto each
-    // other on a pyramid that does enclose a volume): such a mesh is repaired like a broken one.
-    folds = folded_edges(clean);
   }
-  const bool needs_repair = !closed || folds > 0;
+  const bool needs_repair = !closed;
 
   if (needs_repair) {
     if (options.repair == Repair::None) {
-      if (folds > 0) {
-        throw InputError("the surface folds flat onto itself at " + std::to_string(folds) +
-                         " edge(s) (two faces lie on each other); use repair='auto' to wrap "
-                         "it into a closed proxy");
-      }
       throw InputError("the mesh is not a single closed manifold: " + problem_list(topo) +
                        "; use repair='auto' to wrap it into a closed proxy");
     }
@@ -798,6 +789,23 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
       skip = nf >= kMinKeptFaces &&
              edge_length_variation(out.working.V, out.working.F) < kMaxKeptVariation;
       if (nf < target / 2.5) target = std::min(target, kSmallRemeshFaces);
+    }
+    if (!skip && !out.repaired) {
+      // One flat fold is enough for the same crash of the remeshing (fuzzing again: two faces
+      // folded onto each other on a pyramid that does enclose a volume): a mesh to be remeshed
+      // that has one is repaired like a broken one first. (Kept as it is, a fold does no harm:
+      // two vertices of a closed mesh moved onto each other make one.)
+      const int folds = folded_edges(out.working);
+      if (folds > 0) {
+        if (options.repair == Repair::None) {
+          throw InputError("the surface folds flat onto itself at " + std::to_string(folds) +
+                           " edge(s) (two faces lie on each other), which the remeshing cannot "
+                           "take; use repair='auto' to wrap it into a closed proxy");
+        }
+        out.working = internal::alpha_wrap(out.working, 0.01, 0.01 / 30.0, poll.part(0.1, 0.3));
+        out.repaired = true;
+        out.wrap_alpha = 0.01;
+      }
     }
     if (!skip) {
       const int goal = 4 * std::max(options.target_faces, internal::kMinRemeshFaces);

@@ -76,11 +76,57 @@ struct PollingNotConstrained {
   }
 };
 
+// Splits every triangle into four at its edge midpoints (the same surface). The input's
+// vertices keep their indices; the midpoints come after them.
+Mesh subdivide_midpoints(const Mesh& mesh) {
+  const Eigen::Index nv = mesh.V.rows(), nf = mesh.F.rows();
+  std::vector<std::pair<std::pair<int, int>, int>> half;  // ((low, high) vertex, face * 3 + k)
+  half.reserve(3 * nf);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.F(f, k), b = mesh.F(f, (k + 1) % 3);
+      half.push_back({{std::min(a, b), std::max(a, b)}, static_cast<int>(3 * f + k)});
+    }
+  }
+  std::sort(half.begin(), half.end());
+  std::vector<int> midpoint(3 * nf);  // face * 3 + k -> vertex in the middle of edge k
+  std::vector<Eigen::RowVector3d> added;
+  for (std::size_t i = 0; i < half.size(); ++i) {
+    if (i == 0 || half[i].first != half[i - 1].first) {
+      const auto [a, b] = half[i].first;
+      added.push_back(0.5 * (mesh.V.row(a) + mesh.V.row(b)));
+    }
+    midpoint[half[i].second] = static_cast<int>(nv + added.size() - 1);
+  }
+  Mesh out;
+  out.V.resize(nv + static_cast<Eigen::Index>(added.size()), 3);
+  out.V.topRows(nv) = mesh.V;
+  for (std::size_t i = 0; i < added.size(); ++i) out.V.row(nv + static_cast<Eigen::Index>(i)) = added[i];
+  out.F.resize(4 * nf, 3);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
+    const int ab = midpoint[3 * f], bc = midpoint[3 * f + 1], ca = midpoint[3 * f + 2];
+    out.F.row(4 * f) << a, ab, ca;
+    out.F.row(4 * f + 1) << ab, b, bc;
+    out.F.row(4 * f + 2) << ca, bc, c;
+    out.F.row(4 * f + 3) << ab, bc, ca;
+  }
+  return out;
+}
+
 }  // namespace
 
-Mesh remesh_uniform(const Mesh& mesh, int target_faces,
+Mesh remesh_uniform(const Mesh& input, int target_faces,
                     const std::function<void(double)>& poll_in) {
   const std::function<void(double)> poll = poll_in ? poll_in : [](double) {};
+  // A mesh of far fewer faces than the target is split 1-to-4 at its edge midpoints first (the
+  // same surface): CGAL's isotropic remeshing segfaulted (in tangential_relaxation, found by
+  // fuzzing) on a 6-face bipyramid with 200 faces to reach, and runs through the same
+  // bipyramid split twice.
+  Mesh mesh = input;
+  while (mesh.F.rows() > 0 && mesh.F.rows() < std::max(target_faces, kMinRemeshFaces)) {
+    mesh = subdivide_midpoints(mesh);
+  }
   SM sm;
   std::vector<SM::Vertex_index> vs;
   vs.reserve(mesh.V.rows());
