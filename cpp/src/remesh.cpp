@@ -124,7 +124,7 @@ Mesh remesh_uniform(const Mesh& input, int target_faces,
   // fuzzing) on a 6-face bipyramid with 200 faces to reach, and runs through the same
   // bipyramid split twice.
   Mesh mesh = input;
-  while (mesh.F.rows() > 0 && mesh.F.rows() < std::max(target_faces, kMinRemeshFaces)) {
+  while (mesh.F.rows() > 0 && 2 * mesh.F.rows() < std::max(target_faces, kMinRemeshFaces)) {
     mesh = subdivide_midpoints(mesh);
   }
   SM sm;

@@ -247,13 +247,19 @@ def test_extreme_scales_give_the_same_skeleton_scaled(scale):
     s = dcg.extract_skeleton(V * scale + 3 * scale, F, **FAST)
     assert_valid_skeleton(s, F)
     # The engine works in normalized units, so only rounding differs (1e-6 is no power of two);
-    # the randomized stages may amplify it a little, hence the loose tolerance.
+    # the randomized stages may amplify it a little, hence the loose tolerance. The node order
+    # may differ: the ellipsoid's two ends are equally strong prongs, so rounding decides which
+    # comes first. Each node has its counterpart at the other scale (nearest, same kind).
     diagonal = np.linalg.norm(V.max(axis=0) - V.min(axis=0))
     assert abs(s.node_count - unit.node_count) <= 1
     if s.node_count == unit.node_count:
-        np.testing.assert_allclose(s.positions, unit.positions * scale + 3 * scale, rtol=0,
-                                   atol=0.1 * diagonal * scale)
-    np.testing.assert_allclose(s.radii, unit.radii * scale, rtol=0, atol=0.1 * diagonal * scale)
+        expected = unit.positions * scale + 3 * scale
+        for i in range(s.node_count):
+            gap = np.linalg.norm(expected - s.positions[i], axis=1)
+            j = int(np.argmin(gap))
+            assert gap[j] <= 0.1 * diagonal * scale
+            assert s.kinds[i] == unit.kinds[j]
+            assert abs(s.radii[i] - unit.radii[j] * scale) <= 0.1 * diagonal * scale
 
 
 def test_far_from_origin_mesh_gives_a_skeleton():
