@@ -23,6 +23,20 @@ struct TorusField {
   dcg::ForceField field{query};
 };
 
+// One link between two points on opposite sides of the ring: its chord crosses the hole.
+struct AcrossTheHole {
+  dcg::Points nodes = (dcg::Points(2, 3) << 1, 0, 0, -1, 0, 0).finished();
+  dcg::Edges links = (dcg::Edges(1, 2) << 0, 1).finished();
+  Eigen::VectorXd radii = Eigen::VectorXd::Constant(2, 0.3);
+};
+
+// n points on the torus's core circle.
+dcg::Points core_circle(int n) {
+  dcg::Points pts(n, 3);
+  for (int i = 0; i < n; ++i) pts.row(i) << std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0;
+  return pts;
+}
+
 // Every segment of each polyline stays inside (a segment between two inside points may not
 // cross the surface either).
 void expect_segments_inside(const dcg::Remapped& r, const dcg::SurfaceQuery& query) {
@@ -64,15 +78,8 @@ TEST(Remap, SnakeFollowsTheMiddleOfACurvedTube) {
 
 TEST(Remap, ALinkThatLeavesTheShapeIsRouted) {
   TorusField t;
-  // Two points on opposite sides of the ring: the chord crosses the hole.
-  dcg::Points nodes(2, 3);
-  nodes << 1, 0, 0, -1, 0, 0;
-  const Eigen::VectorXd radii = Eigen::VectorXd::Constant(2, 0.3);
-  dcg::Edges links(1, 2);
-  links << 0, 1;
-  dcg::Points ring(24, 3);
-  for (int i = 0; i < 24; ++i) ring.row(i) << std::cos(2 * M_PI * i / 24), std::sin(2 * M_PI * i / 24), 0;
-  const dcg::Remapped r = dcg::remap_links(nodes, radii, links, t.field, ring);
+  const AcrossTheHole link;
+  const dcg::Remapped r = dcg::remap_links(link.nodes, link.radii, link.links, t.field, core_circle(24));
   EXPECT_EQ(r.rerouted[0], 1);
   EXPECT_EQ(r.unrouted, 0);
   const dcg::Points& p = r.polylines[0];
@@ -87,17 +94,14 @@ TEST(Remap, ARouteThroughThousandsOfWaypointsFindsItsWay) {
   // Past 1500 waypoints in the ellipsoid each point tries only its nearest (a grid). 4000
   // points inside the ring, none near the straight link's middle (the hole).
   TorusField t;
-  dcg::Points nodes(2, 3);
-  nodes << 1, 0, 0, -1, 0, 0;
-  dcg::Edges links(1, 2);
-  links << 0, 1;
+  const AcrossTheHole link;
   dcg::Points cloud(4000, 3);
   for (int i = 0; i < 4000; ++i) {
     const double u = 2 * M_PI * i / 4000, v = 2 * M_PI * ((i * 37) % 4000) / 4000.0,
                  rho = 0.2 * ((i * 53) % 100) / 100.0;
     cloud.row(i) << (1 + rho * std::cos(v)) * std::cos(u), (1 + rho * std::cos(v)) * std::sin(u), rho * std::sin(v);
   }
-  const dcg::Remapped r = dcg::remap_links(nodes, Eigen::VectorXd::Constant(2, 0.3), links, t.field, cloud);
+  const dcg::Remapped r = dcg::remap_links(link.nodes, link.radii, link.links, t.field, cloud);
   EXPECT_EQ(r.rerouted[0], 1);
   EXPECT_EQ(r.unrouted, 0);
   expect_segments_inside(r, *t.query);
@@ -109,18 +113,13 @@ TEST(Remap, ARouteThroughThousandsOfWaypointsFindsItsWay) {
 TEST(Remap, ALinkWithNoRouteTriesTheExtraWaypoints) {
   // No waypoint at all: the link has no route until the extra ones (asked for once) come.
   TorusField t;
-  dcg::Points nodes(2, 3);
-  nodes << 1, 0, 0, -1, 0, 0;
-  dcg::Edges links(1, 2);
-  links << 0, 1;
+  const AcrossTheHole link;
   int asked = 0;
   auto ring = [&] {
     ++asked;
-    dcg::Points pts(24, 3);
-    for (int i = 0; i < 24; ++i) pts.row(i) << std::cos(2 * M_PI * i / 24), std::sin(2 * M_PI * i / 24), 0;
-    return pts;
+    return core_circle(24);
   };
-  const dcg::Remapped r = dcg::remap_links(nodes, Eigen::VectorXd::Constant(2, 0.3), links, t.field,
+  const dcg::Remapped r = dcg::remap_links(link.nodes, link.radii, link.links, t.field,
                                            dcg::Points(0, 3), {}, ring);
   EXPECT_EQ(asked, 1);
   EXPECT_EQ(r.unrouted, 0);
