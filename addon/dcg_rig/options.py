@@ -29,8 +29,10 @@ PRESETS = {
     "DEFAULT": {},
     "COARSE": {"target_faces": 8000, "samples": 2000, "tau": 0.75, "min_gap": 0.01,
                "min_radius": 0.004, "bone_detail": 0.0},
-    "DETAILED": {"target_faces": 40000, "samples": 8000, "tau": 0.92, "min_gap": 0.0025,
-                 "min_radius": 0.001, "bone_detail": 1.0},
+    # upsample: a small input is remeshed up to target_faces and sampled in full; without it
+    # the engine keeps a small input as it is and caps its samples (README, Options).
+    "DETAILED": {"target_faces": 40000, "samples": 8000, "upsample": 1, "tau": 0.92,
+                 "min_gap": 0.0025, "min_radius": 0.001, "bone_detail": 1.0},
 }
 PRESET_ITEMS = (
     ("DEFAULT", "Default", "The engine's defaults"),

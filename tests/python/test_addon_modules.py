@@ -123,6 +123,18 @@ def test_option_specs_cover_every_engine_option_and_presets_are_valid():
         dcg.normalize_options(options.engine_kwargs(specs, values))
 
 
+def test_the_detailed_preset_remeshes_a_small_input_and_the_default_keeps_it():
+    # The engine keeps an input under target_faces / 2.5 faces as it is (upsample 0); the
+    # Detailed preset asks for more detail than a small input has, so it remeshes (upsample 1).
+    from conftest import uv_sphere
+
+    V, F = uv_sphere(rings=40, segments=48)  # 3,744 faces: small, and kept by the default
+    specs = options.option_specs(dcg.OPTIONS)
+    for preset, remeshed in (("DEFAULT", False), ("DETAILED", True)):
+        kwargs = options.engine_kwargs(specs, options.preset_values(specs, preset))
+        assert dcg.Extractor(V, F, **kwargs).prepare().remeshed == remeshed, preset
+
+
 def test_frame_camera_sees_the_whole_box():
     low, high = np.array([-1.0, -2.0, 0.0]), np.array([1.0, 2.0, 3.0])
     fov = 0.69
