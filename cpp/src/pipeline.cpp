@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <variant>
 
 #include <tbb/blocked_range.h>
@@ -268,6 +269,17 @@ void mark_prong_ends(const Prongs& prongs, Skeleton& s) {
   }
 }
 
+// The middle of the chord from `start` (a point just inside) along the unit direction d to the
+// first wall it meets; none when the ray meets no wall or the middle is not inside.
+std::optional<Eigen::Vector3d> chord_middle(const SurfaceQuery& query, const Eigen::Vector3d& start,
+                                            const Eigen::Vector3d& d) {
+  const double wall = query.ray_hit(start, d);
+  if (!std::isfinite(wall)) return std::nullopt;
+  const Eigen::Vector3d p = start + 0.5 * wall * d;
+  if (!query.inside(p)) return std::nullopt;
+  return p;
+}
+
 // The end point of a prong whose peak no stage-1 ball sees: the middle of the chord from the
 // peak vertex inward to the opposite wall. Inward: against the vertex normal (area-weighted face
 // normals), else toward the centroid of its faces, else toward `toward` (a point inside, e.g. the nearest ball center), else along the
@@ -298,12 +310,10 @@ Eigen::Vector3d inward_point(const Mesh& mesh, const SurfaceQuery& query, int ve
   for (const Eigen::Vector3d& d : directions) {
     const Eigen::Vector3d start = peak + 1e-6 * d;
     if (!query.inside(start)) continue;
-    const double wall = query.ray_hit(start, d);
-    if (!std::isfinite(wall)) continue;
-    const Eigen::Vector3d p = start + 0.5 * wall * d;
-    if (!query.inside(p)) continue;
-    *radius = query.distance(p);
-    return p;
+    if (const auto p = chord_middle(query, start, d)) {
+      *radius = query.distance(*p);
+      return *p;
+    }
   }
   return Eigen::Vector3d::Zero();
 }
@@ -370,13 +380,10 @@ Points chord_midpoints(const Mesh& mesh, const SurfaceQuery& surface) {
       if (n.isZero()) continue;
       const Eigen::Vector3d c =
           (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3.0;
-      const Eigen::Vector3d start = c - 1e-7 * n;
-      const double h = surface.ray_hit(start, -n);
-      if (!std::isfinite(h)) continue;
-      const Eigen::Vector3d m = start - 0.5 * h * n;
-      if (!surface.inside(m)) continue;
-      mid.row(f) = m.transpose();
-      ok[static_cast<std::size_t>(f)] = 1;
+      if (const auto m = chord_middle(surface, c - 1e-7 * n, -n)) {
+        mid.row(f) = m->transpose();
+        ok[static_cast<std::size_t>(f)] = 1;
+      }
     }
   });
   Eigen::Index k = 0;
@@ -593,7 +600,7 @@ const Balls& Extractor::voronoi_balls() {
     // least 500: 4000 samples would cost more than the rest of the pipeline there, and the
     // public meshes of 898 to 5,856 faces keep their ends, joints and loops with these.
     const double faces = static_cast<double>(working.F.rows());
-    if (!options_.upsample && faces * 2.5 < options_.target_faces) {
+    if (!options_.upsample && small_for_target(faces, options_.target_faces)) {
       vo.samples = std::min(vo.samples, std::max(kMinSmallSamples, static_cast<int>(faces / 2)));
     }
     vo.seed = options_.seed;

@@ -55,6 +55,7 @@
 
 #include "dcg/errors.h"
 #include "dcg/surface_query.h"
+#include "edge_table.h"
 #include "polling.h"
 #include "remesh.h"
 #include "repair.h"
@@ -63,40 +64,13 @@
 namespace dcg {
 namespace {
 
+using internal::edge_key;
+using internal::EdgeTable;
 using internal::UnionFind;
-
-inline std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
-}
 
 struct CellHash {
   std::size_t operator()(const std::array<std::int64_t, 3>& c) const {
     return static_cast<std::size_t>(c[0] * 73856093LL ^ c[1] * 19349663LL ^ c[2] * 83492791LL);
-  }
-};
-
-// Undirected edges with their incident faces, sorted by key.
-struct EdgeTable {
-  std::vector<std::pair<std::uint64_t, int>> half;  // (edge key, face), sorted by key
-  EdgeTable(const Faces& F, const std::function<void()>& poll) {
-    half.reserve(F.rows() * 3);
-    for (int f = 0; f < F.rows(); ++f) {
-      if ((f & 65535) == 0) poll();
-      for (int k = 0; k < 3; ++k) half.emplace_back(edge_key(F(f, k), F(f, (k + 1) % 3)), f);
-    }
-    internal::sort_polling(half, poll);
-  }
-  // Calls fn(begin, end) for each run of equal keys.
-  template <class Fn>
-  void for_each_edge(Fn fn) const {
-    for (std::size_t i = 0; i < half.size();) {
-      std::size_t j = i;
-      while (j < half.size() && half[j].first == half[i].first) ++j;
-      fn(i, j);
-      i = j;
-    }
   }
 };
 
@@ -111,11 +85,12 @@ int folded_edges(const Mesh& mesh) {
     const Eigen::RowVector3d n = (b - a).cross(c - a);
     normal.row(f) = n.norm() > 0 ? (n / n.norm()).eval() : Eigen::RowVector3d::Zero();
   }
-  const EdgeTable table(mesh.F, [] {});
+  const EdgeTable table(mesh.F);
   int folds = 0;
   table.for_each_edge([&](std::size_t i, std::size_t j) {
     if (j - i != 2) return;
-    const double dot = normal.row(table.half[i].second).dot(normal.row(table.half[i + 1].second));
+    const double dot = normal.row(EdgeTable::face(table.half[i].second))
+                           .dot(normal.row(EdgeTable::face(table.half[i + 1].second)));
     folds += dot < -1.0 + 1e-8;
   });
   return folds;
@@ -149,7 +124,9 @@ Topology analyze(const Vertices& V, Faces& F, bool orient, const std::function<v
     if ((++polled & 16383) == 0) poll();
     ++t.edges;
     const std::size_t n = e - b;
-    for (std::size_t i = b + 1; i < e; ++i) faces_uf.unite(table.half[b].second, table.half[i].second);
+    for (std::size_t i = b + 1; i < e; ++i) {
+      faces_uf.unite(EdgeTable::face(table.half[b].second), EdgeTable::face(table.half[i].second));
+    }
     if (n == 1) {
       ++t.border_edges;
       const std::uint64_t key = table.half[b].first;
@@ -157,19 +134,9 @@ Topology analyze(const Vertices& V, Faces& F, bool orient, const std::function<v
     } else if (n > 2) {
       ++t.non_manifold_edges;
     } else {
-      const int f = table.half[b].second, g = table.half[b + 1].second;
-      for (int k = 0; k < 3; ++k) {
-        if (edge_key(F(f, k), F(f, (k + 1) % 3)) == table.half[b].first && adj[f][k] < 0) {
-          adj[f][k] = g;
-          break;
-        }
-      }
-      for (int k = 0; k < 3; ++k) {
-        if (edge_key(F(g, k), F(g, (k + 1) % 3)) == table.half[b].first && adj[g][k] < 0) {
-          adj[g][k] = f;
-          break;
-        }
-      }
+      const int cf = table.half[b].second, cg = table.half[b + 1].second;
+      adj[EdgeTable::face(cf)][cf % 3] = EdgeTable::face(cg);
+      adj[EdgeTable::face(cg)][cg % 3] = EdgeTable::face(cf);
     }
   });
   std::vector<int> comp_of(nf, -1);
@@ -777,18 +744,18 @@ PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const Prepare
     const double nf = static_cast<double>(out.working.F.rows());
     int target = options.target_faces;
     bool skip = false;
+    const bool small = small_for_target(nf, target), large = nf > kNearTarget * target;
     if (options.upsample) {
       // Kept only near the target size and with even edge lengths.
-      skip = nf >= target / 2.5 && nf <= target * 2.5 &&
-             edge_length_variation(out.working.V, out.working.F) < 0.5;
-    } else if (nf <= target * 2.5) {
+      skip = !small && !large && edge_length_variation(out.working.V, out.working.F) < 0.5;
+    } else if (!large) {
       // Not larger than the target: kept, unless it is tiny or its triangles are very uneven
       // (then remeshed, a small input only to kSmallRemeshFaces). The public meshes of 898 to
       // 12,000 faces give the same skeletons from their own faces as remeshed to 20,000, at a
       // fraction of the cost.
       skip = nf >= kMinKeptFaces &&
              edge_length_variation(out.working.V, out.working.F) < kMaxKeptVariation;
-      if (nf < target / 2.5) target = std::min(target, kSmallRemeshFaces);
+      if (small) target = std::min(target, kSmallRemeshFaces);
     }
     if (!skip && !out.repaired) {
       // One flat fold is enough for the same crash of the remeshing (fuzzing again: two faces

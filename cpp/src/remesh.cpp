@@ -29,6 +29,7 @@
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include "dcg/errors.h"
+#include "edge_table.h"
 #include "surface_mesh_convert.h"
 
 namespace dcg::internal {
@@ -80,24 +81,14 @@ struct PollingNotConstrained {
 // vertices keep their indices; the midpoints come after them.
 Mesh subdivide_midpoints(const Mesh& mesh) {
   const Eigen::Index nv = mesh.V.rows(), nf = mesh.F.rows();
-  std::vector<std::pair<std::pair<int, int>, int>> half;  // ((low, high) vertex, face * 3 + k)
-  half.reserve(3 * nf);
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = mesh.F(f, k), b = mesh.F(f, (k + 1) % 3);
-      half.push_back({{std::min(a, b), std::max(a, b)}, static_cast<int>(3 * f + k)});
-    }
-  }
-  std::sort(half.begin(), half.end());
-  std::vector<int> midpoint(3 * nf);  // face * 3 + k -> vertex in the middle of edge k
+  const EdgeTable table(mesh.F);
+  std::vector<int> midpoint(3 * nf);  // corner 3 f + k -> vertex in the middle of edge k of f
   std::vector<Eigen::RowVector3d> added;
-  for (std::size_t i = 0; i < half.size(); ++i) {
-    if (i == 0 || half[i].first != half[i - 1].first) {
-      const auto [a, b] = half[i].first;
-      added.push_back(0.5 * (mesh.V.row(a) + mesh.V.row(b)));
-    }
-    midpoint[half[i].second] = static_cast<int>(nv + added.size() - 1);
-  }
+  table.for_each_edge([&](std::size_t b, std::size_t e) {
+    const int corner = table.half[b].second, f = EdgeTable::face(corner), k = corner % 3;
+    added.push_back(0.5 * (mesh.V.row(mesh.F(f, k)) + mesh.V.row(mesh.F(f, (k + 1) % 3))));
+    for (std::size_t i = b; i < e; ++i) midpoint[table.half[i].second] = static_cast<int>(nv + added.size() - 1);
+  });
   Mesh out;
   out.V.resize(nv + static_cast<Eigen::Index>(added.size()), 3);
   out.V.topRows(nv) = mesh.V;

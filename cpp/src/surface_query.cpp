@@ -30,6 +30,7 @@
 #include <embree3/rtcore.h>
 
 #include "dcg/errors.h"
+#include "edge_table.h"
 #include "embree_scene.h"
 #include "polling.h"
 
@@ -276,9 +277,6 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
                          {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
   }
 
-  // Edge pseudo-normals: the sum of the normals of the faces on each edge (sorted half-edges).
-  std::vector<std::pair<std::uint64_t, int>> half;
-  half.reserve(3 * static_cast<std::size_t>(nf));
   for (int f = 0; f < nf; ++f) {
     if (poll && (f & 16383) == 0) poll();
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
@@ -292,21 +290,20 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
       double angle = 0;
       if (l1 > 0 && l2 > 0) angle = std::acos(std::clamp(e1.dot(e2) / (l1 * l2), -1.0, 1.0));
       m.vertex_normal[F(f, k)] += angle * m.face_normal[f];
-      auto i = static_cast<std::uint32_t>(F(f, k)), j = static_cast<std::uint32_t>(F(f, (k + 1) % 3));
-      if (i > j) std::swap(i, j);
-      half.emplace_back((static_cast<std::uint64_t>(i) << 32) | j, 3 * f + k);
     }
   }
-  internal::sort_polling(half, poll);
+  // Edge pseudo-normals: the sum of the normals of the faces on each edge.
+  const internal::EdgeTable edges(F, poll);
   std::size_t edges_seen = 0;
-  for (std::size_t i = 0; i < half.size();) {
+  edges.for_each_edge([&](std::size_t i, std::size_t j) {
     if (poll && (++edges_seen & 32767) == 0) poll();
-    std::size_t j = i;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (; j < half.size() && half[j].first == half[i].first; ++j) sum += m.face_normal[half[j].second / 3];
-    for (std::size_t h = i; h < j; ++h) m.edge_normal[half[h].second / 3][half[h].second % 3] = sum;
-    i = j;
-  }
+    for (std::size_t h = i; h < j; ++h) sum += m.face_normal[internal::EdgeTable::face(edges.half[h].second)];
+    for (std::size_t h = i; h < j; ++h) {
+      const int corner = edges.half[h].second;
+      m.edge_normal[internal::EdgeTable::face(corner)][corner % 3] = sum;
+    }
+  });
 
   m.scene = internal::triangle_scene(V, F, m.center.data(), poll);
 }

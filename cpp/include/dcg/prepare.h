@@ -36,6 +36,14 @@ struct PrepareOptions {
   unsigned seed = 0;
 };
 
+/// An input with fewer than target_faces / kNearTarget faces is small (see upsample), one with
+/// more than kNearTarget x target_faces large.
+constexpr double kNearTarget = 2.5;
+/// Whether a mesh of `faces` faces is small for `target_faces` (never when that is 0).
+inline bool small_for_target(double faces, int target_faces) {
+  return faces * kNearTarget < target_faces;
+}
+
 /// With upsample off (PrepareOptions::upsample).
 constexpr int kMinKeptFaces = 800;
 constexpr double kMaxKeptVariation = 1.0;
