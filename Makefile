@@ -11,7 +11,7 @@ OUT ?= out
 CMAKE_FLAGS ?=
 export DCG_MESHES ?= $(abspath ../shared/meshes)
 
-.PHONY: all deps build rig test addon bench fuzz clean
+.PHONY: all deps build build-rig rig test addon wheel extension bench fuzz clean
 
 all: build
 
@@ -24,16 +24,35 @@ build: deps
 	  -DPython_EXECUTABLE=$(PYTHON) $(CMAKE_FLAGS)
 	@cmake --build $(BUILD) -j$(JOBS)
 
+# What rigging needs and nothing more (the engine, its module, the assembled add-on): no tests.
+build-rig: deps
+	@[ -f $(BUILD)/build.ninja ] || cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	  -DPython_EXECUTABLE=$(PYTHON) $(CMAKE_FLAGS)
+	@cmake --build $(BUILD) --target python_package -j$(JOBS)
+
 # Rig MESH (default: the bundled Spot) headlessly: out/<model>.blend, .glb, .fbx and .png.
-rig: build
+rig: build-rig
 	@mkdir -p $(OUT)
 	DCG_PYTHONPATH=$(abspath $(BUILD))/python $(BLENDER) -b --factory-startup \
 	  --python addon/dcg_rig/cli.py -- $(MESH) -o $(OUT)/$(MODEL).blend \
 	  --glb $(OUT)/$(MODEL).glb --fbx $(OUT)/$(MODEL).fbx --png $(OUT)/$(MODEL).png
 
 # Every suite (ctest, pytest, Blender); one closing line "N passed, N failed, N skipped".
-test: build
+test: build extension
 	@bash scripts/run-tests.sh $(BUILD)
+
+# The engine's wheels (pyproject.toml), repaired by auditwheel so that they need nothing outside
+# the manylinux policy: out/wheels/dcg-<version>-cp311-...whl (and cp313 where this machine has
+# Python 3.13 with headers).
+wheel: deps
+	@bash scripts/build-wheels.sh $(OUT)/wheels
+
+# The Blender 4.2+ extension with the wheels inside: out/dcg_rig-<version>.zip. Install it with
+# Edit > Preferences > Get Extensions > Install from Disk, or
+# `blender --command extension install-file -r user_default out/dcg_rig-<version>.zip`.
+extension: wheel
+	@$(PYTHON) scripts/make_extension.py --addon addon/dcg_rig --wheels $(OUT)/wheels \
+	  --out-dir $(OUT) --license LICENSE
 
 # The libFuzzer targets (tests/fuzz/: mesh readers, stage 0) for FUZZ_SECONDS in all, built with
 # clang in build-fuzz/; `make test` runs them for 60 s. Crashing inputs: build-fuzz/artifacts/.
@@ -41,7 +60,7 @@ FUZZ_SECONDS ?= 600
 fuzz: deps
 	@FUZZ_KEEP_CORPUS=1 bash scripts/run-fuzz.sh $(FUZZ_SECONDS) $(BUILD)/test-results/fuzz-long.xml
 
-# The installable add-on with the compiled module: out/dcg_rig.zip.
+# The legacy add-on zip for Blender 3.x, with the compiled module: out/dcg_rig.zip.
 addon: build
 	@mkdir -p $(OUT)
 	@$(PYTHON) scripts/make_addon_zip.py $(BUILD)/blender_scripts/addons/dcg_rig $(OUT)/dcg_rig.zip

@@ -1,6 +1,7 @@
 """Fixtures for the tests that run inside Blender (see run.py)."""
 
 import os
+import sys
 from pathlib import Path
 
 import bpy
@@ -13,6 +14,25 @@ REPO = Path(__file__).resolve().parents[1]
 @pytest.fixture(scope="session")
 def repo():
     return REPO
+
+
+#: True when run.py installed the add-on as a Blender 4.2+ extension (else the legacy add-on).
+AS_EXTENSION = bool(os.environ.get("DCG_EXTENSION"))
+
+
+def addon_dir():
+    """The folder of the enabled add-on (the installed extension, or the build output)."""
+    return Path(sys.modules["dcg_rig"].__file__).resolve().parent
+
+
+def blender_command(script, *args):
+    """The command that runs the Python file `script` with `args` in a new headless Blender:
+    the Blender application when this is one, else this interpreter (PyPI's `bpy` module)."""
+    args = [str(a) for a in args]
+    if bpy.app.binary_path:
+        return [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
+                "--python", str(script), "--", *args]
+    return [sys.executable, str(script), "--", *args]
 
 
 @pytest.fixture(scope="session")

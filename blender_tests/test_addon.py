@@ -4,8 +4,11 @@ import os
 
 import bpy
 import pytest
+from conftest import AS_EXTENSION
 
 
+@pytest.mark.skipif(AS_EXTENSION, reason="the extension is enabled from the user folder "
+                    "(test_extension.py checks where)")
 def test_enabled_from_the_build_output():
     import dcg_rig
 

@@ -5,7 +5,7 @@ import sys
 
 import bpy
 import pytest
-from conftest import scene_counts
+from conftest import addon_dir, blender_command, scene_counts
 
 
 @pytest.fixture
@@ -35,8 +35,8 @@ def test_load_mesh_makes_an_active_object_y_up_for_obj(repo):
 
 
 def run_cli(repo, *args):
-    command = [bpy.app.binary_path, "-b", "--factory-startup", "--python",
-               str(repo / "addon" / "dcg_rig" / "cli.py"), "--", *map(str, args)]
+    """Run the enabled add-on's own cli.py (the installed extension's, on 4.2+)."""
+    command = blender_command(addon_dir() / "cli.py", *args)
     return subprocess.run(command, capture_output=True, text=True, timeout=300)
 
 
@@ -112,6 +112,38 @@ def test_cli_rigs_a_gltf_file_replacing_the_rig_it_holds(repo, cli_outputs, tmp_
     assert result.returncode == 0, result.stdout + result.stderr
     with bpy.data.libraries.load(str(tmp_path / "again.blend")) as (source, _):
         assert len(source.armatures) == 1
+
+
+def _appended_objects(blend):
+    """The objects saved in `blend`, appended (not linked to the scene)."""
+    with bpy.data.libraries.load(str(blend)) as (source, target):
+        target.objects = list(source.objects)
+    return [o for o in target.objects if o is not None]
+
+
+def test_cli_rigs_the_model_of_a_skinned_gltf_not_its_bone_shape(repo, tmp_path):
+    """Blender 4.0+'s glTF importer adds a hidden "Icosphere" (the bones' display shape) to a
+    file with an armature; spot sorts after it and must be the mesh rigged, whole."""
+    first = tmp_path / "spot.glb"
+    result = run_cli(repo, repo / "data" / "spot.obj", "--glb", first, "--weights", "ENVELOPE")
+    assert result.returncode == 0, result.stdout + result.stderr
+    from dcg_rig import importing
+
+    importing.ensure_numpy_bool_alias()
+    bpy.ops.import_scene.gltf(filepath=str(first))
+    (model,) = [o for o in bpy.data.objects if o.type == "MESH" and o.name.startswith("spot")]
+    expected = len(model.data.vertices)
+    result = run_cli(repo, first, "-o", tmp_path / "again.blend", "--glb", tmp_path / "again.glb",
+                     "--weights", "ENVELOPE")
+    assert result.returncode == 0, result.stdout + result.stderr
+    objects = _appended_objects(tmp_path / "again.blend")
+    meshes = [o for o in objects if o.type == "MESH"]
+    assert [o.type for o in objects].count("ARMATURE") == 1
+    assert len(meshes) == 1 and meshes[0].name.startswith("spot"), [o.name for o in objects]
+    assert len(meshes[0].data.vertices) == expected
+    unweighted = sum(1 for v in meshes[0].data.vertices if not any(g.weight > 0 for g in v.groups))
+    assert unweighted == 0
+    assert (tmp_path / "again.glb").stat().st_size > 0
 
 
 def test_cli_rejects_unknown_formats(repo, tmp_path):

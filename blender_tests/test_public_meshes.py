@@ -36,24 +36,32 @@ def inside(tree, point, size):
     return votes >= 2
 
 
+SEEN = {}  #: mesh object name -> the (V, F) the rig operator was given
+
+
 @pytest.fixture(params=list(MESHES))
 def rigged(request, dcg):
     path = MESHES[request.param]
     if not path.is_file():
         pytest.skip(f"{path} not found (set DCG_MESHES)")
+    from dcg_rig import mesh_io
+
     bpy.ops.dcg.load_mesh(filepath=str(path))
     mesh_obj = bpy.context.active_object
+    # What the operator sees. Reading it back after rigging differs by float rounding (the
+    # parenting to the armature recomposes the world matrix: 5e-8 on octopus-low under 4.2),
+    # and some skeletons are not stable under that.
+    SEEN[mesh_obj.name] = mesh_io.evaluated_world_mesh(bpy.context, mesh_obj)
     assert bpy.ops.object.dcg_auto_rig(weights="ENVELOPE") == {"FINISHED"}
     return mesh_obj
 
 
 def test_the_armature_is_the_skeletons_bone_plan(rigged, dcg):
-    from dcg_rig import bones, mesh_io, properties
+    from dcg_rig import bones, properties
 
     arms = [o for o in bpy.data.objects if o.type == "ARMATURE"]
     assert len(arms) == 1
-    rigged.modifiers["DCG Rig"].show_viewport = False  # the mesh the operator saw
-    V, F = mesh_io.evaluated_world_mesh(bpy.context, rigged)
+    V, F = SEEN[rigged.name]
     skeleton = dcg.extract_skeleton(V, F)  # same mesh, same default options: same skeleton
     settings = properties.settings(bpy.context)
     plan = bones.plan_bones(skeleton, settings.bone_detail)
@@ -70,8 +78,8 @@ def test_every_bone_lies_inside_the_mesh(rigged):
     from dcg_rig import armature
 
     (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
-    depsgraph = bpy.context.evaluated_depsgraph_get()
     rigged.modifiers["DCG Rig"].show_viewport = False  # the rest shape, not a pose
+    depsgraph = bpy.context.evaluated_depsgraph_get()  # after the change (4.x needs it so)
     tree = BVHTree.FromObject(rigged, depsgraph)
     matrix = rigged.matrix_world
     heads, tails = armature.bone_world_segments(arm)

@@ -194,3 +194,25 @@ def test_undo_after_rigging_leaves_no_armature_modifier_or_groups():
     obj = bpy.data.objects["capsule"]  # undo re-creates the ID blocks: look it up again
     assert not armatures() and len(bpy.data.armatures) == 0
     assert not obj.modifiers and not obj.vertex_groups and obj.parent is None
+
+
+def test_bones_are_colored_and_grouped_by_kind(spot):
+    """Bone collections named by kind with the kind's custom colors on 4.x; bone groups on 3.x."""
+    from dcg_rig.armature import KIND_COLORS
+
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    (arm,) = armatures()
+    kinds = {bone["dcg_kind"] for bone in arm.data.bones}
+    assert {"end", "connection"} <= kinds
+    for bone in arm.data.bones:
+        kind = bone["dcg_kind"]
+        normal = KIND_COLORS[kind][0]
+        if bpy.app.version >= (4, 0, 0):
+            assert [c.name for c in bone.collections] == [kind]
+            assert bone.color.palette == "CUSTOM"
+            assert tuple(bone.color.custom.normal) == pytest.approx(normal, abs=0.005)  # stored in 8 bits
+        else:
+            group = arm.pose.bones[bone.name].bone_group
+            assert group.name == kind and tuple(group.colors.normal) == pytest.approx(normal, abs=0.005)  # stored in 8 bits
+    if bpy.app.version >= (4, 0, 0):
+        assert sorted(c.name for c in arm.data.collections) == sorted(kinds)

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages dcg-rig needs, only those that are missing.
 # Idempotent: when everything is present it prints nothing and returns at once.
-# Run as root (or with sudo available). PyPI is not used: Python packages come from apt.
+# Run as root (or with sudo available). The Python packages of the development build come from
+# apt; the wheel's build tools and PyPI's bpy go into the project's venvs (build-wheels.sh,
+# bpy-venv.sh), for which python3-venv is here.
 set -euo pipefail
 
 PACKAGES=(
@@ -9,7 +11,10 @@ PACKAGES=(
   libcgal-dev libembree-dev libeigen3-dev libtbb-dev libgmp-dev libmpfr-dev libboost-dev
   pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest
   libgtest-dev libbenchmark-dev
-  blender python3-matplotlib python3-distributed
+  blender python3-matplotlib python3-distributed python3-venv
+  # What Blender needs to render headlessly (make rig's picture) and to load as PyPI's bpy;
+  # a minimal Debian lacks them (Couldn't open libEGL.so.1).
+  libegl1 libgl1 libx11-6 libxrender1 libxxf86vm1 libxfixes3 libxi6 libxkbcommon0 libsm6
   clang libclang-rt-14-dev  # libFuzzer + sanitizers for scripts/run-fuzz.sh (make fuzz)
 )
 

@@ -65,12 +65,47 @@ header "Python tests (pytest, /usr/bin/python3)"
 PYTHONPATH="$BUILD/python" /usr/bin/python3 -m pytest tests/python -q -p no:cacheprovider \
   --junitxml="$RESULTS/python.xml"
 
-header "Blender tests (blender -b)"
-BLENDER_USER_SCRIPTS="$BUILD/blender_scripts" DCG_PYTHONPATH="$BUILD/python" \
-  blender -b --factory-startup --python-exit-code 1 --python blender_tests/run.py -- \
-  --junitxml "$RESULTS/blender.xml" 2>&1 | grep -v -e '^Read prefs' -e '^Blender quit' \
-  -e '^$' || true
+# The Blender suite on every Blender this machine can run. The distribution's `blender` (3.4 on
+# Debian 12) gets the legacy add-on of the build output; PyPI's `bpy` of each series in
+# BPY_SERIES (one venv each, .venv/bpy-<series>, made once) gets the extension zip
+# ($EXTENSION, made by `make extension`), installed into a clean temporary user folder. A
+# Blender that cannot run here is one skipped test in the count, with its reason.
+BLENDER_FILES=()
+skip_suite() {  # file suite reason
+  /usr/bin/python3 scripts/test_summary.py --skip "$1" "$2" "$3"
+  echo "skipped: $3"
+}
+BLENDER_RESULT="$RESULTS/blender-debian.xml"
+header "Blender tests: the distribution's blender (legacy add-on)"
+if command -v blender >/dev/null; then
+  BLENDER_USER_SCRIPTS="$BUILD/blender_scripts" DCG_PYTHONPATH="$BUILD/python" \
+    blender -b --factory-startup --python-exit-code 1 --python blender_tests/run.py -- \
+    --junitxml "$BLENDER_RESULT" 2>&1 | grep -v -e '^Read prefs' -e '^Blender quit' \
+    -e '^$' || true
+else
+  skip_suite "$BLENDER_RESULT" blender-debian "no blender on PATH"
+fi
+BLENDER_FILES+=("$BLENDER_RESULT")
+
+EXTENSION=${EXTENSION:-$(ls -t "$ROOT"/out/dcg_rig-*.zip 2>/dev/null | head -1)}
+for series in ${BPY_SERIES:-4.2 4.5 5.0 5.1}; do
+  result="$RESULTS/blender-bpy-$series.xml"
+  BLENDER_FILES+=("$result")
+  header "Blender tests: bpy $series (the extension)"
+  if [ -z "$EXTENSION" ]; then
+    skip_suite "$result" "blender-bpy-$series" "no extension zip (make extension)"; continue
+  fi
+  if ! reason=$(bash scripts/bpy-venv.sh "$series" "$ROOT/.venv/bpy-$series" 2>"$RESULTS/bpy-$series-venv.log"); then
+    skip_suite "$result" "blender-bpy-$series" "bpy $series: ${reason:-$(tail -1 "$RESULTS/bpy-$series-venv.log")}"
+    continue
+  fi
+  user=$(mktemp -d)
+  BLENDER_USER_RESOURCES="$user" DCG_EXTENSION="$EXTENSION" \
+    "$ROOT/.venv/bpy-$series/bin/python" blender_tests/run.py -- --junitxml "$result" 2>&1 |
+    grep -v -e '^$' -e "^Blender quit" || true
+  rm -rf "$user"
+done
 
 header "Summary"
 exec /usr/bin/python3 scripts/test_summary.py "${SUMMARY_FILES[@]}" "$RESULTS/python.xml" \
-  "$RESULTS/blender.xml"
+  "${BLENDER_FILES[@]}"

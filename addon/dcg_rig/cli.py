@@ -11,6 +11,7 @@ object.dcg_auto_rig), so it checks the same path a user clicks. Exit status 0 on
 """
 
 import argparse
+import importlib
 import os
 import sys
 import time
@@ -23,9 +24,32 @@ def _script_args():
     return sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 
 
+def _installed_extension_name(here):
+    """`bl_ext.<repo>.<id>` when `here` is an extension installed in one of Blender's
+    extension repositories (4.2+), else None."""
+    extensions = getattr(bpy.context.preferences, "extensions", None)
+    for repo in getattr(extensions, "repos", ()):
+        if os.path.normpath(repo.directory) == os.path.dirname(here):
+            return f"bl_ext.{repo.module}.{os.path.basename(here)}"
+    return None
+
+
 def _load_addon():
-    """Import and register the dcg_rig package this file belongs to (once)."""
-    parent = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    """Import and register the add-on this file belongs to (once); return its package.
+
+    An installed extension is enabled by its module name, the way Preferences enables it (its
+    wheels then come with it); a legacy add-on folder or the source tree is imported as the
+    package `dcg_rig`, from the folder above this file."""
+    import addon_utils
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    name = _installed_extension_name(here)
+    if name is not None:
+        module = addon_utils.enable(name, default_set=True, handle_error=None)
+        if module is None:
+            _fail(f"the extension {name} could not be enabled")
+        return module
+    parent = os.path.dirname(here)
     if parent not in sys.path:
         sys.path.insert(0, parent)
     import dcg_rig  # noqa: E402  (needs the path above)
@@ -81,9 +105,11 @@ def _rig_mesh_object():
 def main():
     # Start from an empty scene (the factory one has a cube, a camera and a light).
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    _load_addon()
-    from dcg_rig import _engine, importing, options, picture, properties
-    from dcg_rig.rigging import RigError
+    addon = _load_addon().__name__
+    _engine, importing, options, picture, properties, rigging = (
+        importlib.import_module(f"{addon}.{name}")
+        for name in ("_engine", "importing", "options", "picture", "properties", "rigging"))
+    RigError = rigging.RigError
 
     if _engine.error() is not None:
         _fail(_engine.error())
@@ -126,11 +152,26 @@ def main():
     print(f"dcg: done in {time.perf_counter() - started:.2f} s")
 
 
+def _end(status):
+    """Exit with `status`. Inside PyPI's `bpy` module (no Blender binary) the interpreter's
+    teardown is skipped: bpy 4.2.23 dies there with SIGSEGV after any glTF export, when every
+    file has long been written and closed."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    if not bpy.app.binary_path:
+        os._exit(status)
+    sys.exit(status)
+
+
 if __name__ == "__main__":
     try:
         main()
+        _end(0)
+    except SystemExit as done:  # _fail(), argparse
+        _end(done.code if isinstance(done.code, int) else 1)
     except Exception as error:  # anything unexpected still ends with status 1
         import traceback
 
         traceback.print_exc()
-        _fail(f"{type(error).__name__}: {error}")
+        print(f"error: {type(error).__name__}: {error}", file=sys.stderr)
+        _end(1)

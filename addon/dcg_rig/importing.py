@@ -43,12 +43,43 @@ def _call_importer(extension, path, up):
     if extension == ".fbx":
         return bpy.ops.import_scene.fbx(filepath=path)
     ensure_numpy_bool_alias()
-    return bpy.ops.import_scene.gltf(filepath=path)
+    importer = bpy.ops.import_scene.gltf
+    # Blender 4.0+ adds a hidden "Icosphere" for the bones' display unless told not to.
+    options = {"disable_bone_shape": True} if _has_option(importer, "disable_bone_shape") else {}
+    return importer(filepath=path, **options)
+
+
+def _has_option(operator, name):
+    """Whether the operator `operator` has a property `name` (importers differ by version)."""
+    return name in operator.get_rna_type().properties.keys()
+
+
+def _not_part_of_the_model(objects):
+    """The imported objects that are helpers, not the model: the armatures' bone shapes and what
+    an importer put in a not-exported collection (glTF's `glTF_not_exported`)."""
+    helpers = set()
+    for obj in objects:
+        if obj.type == "ARMATURE" and obj.pose is not None:
+            helpers.update(b.custom_shape for b in obj.pose.bones if b.custom_shape is not None)
+        if any(c.name.startswith("glTF_not_exported") for c in obj.users_collection):
+            helpers.add(obj)
+    return helpers
+
+
+def _model_meshes(context, objects):
+    """The mesh objects of `objects` that make the model: with faces, not a helper, and
+    visible (the hidden ones only when no mesh is visible)."""
+    helpers = _not_part_of_the_model(objects)
+    meshes = [o for o in objects
+              if o.type == "MESH" and len(o.data.polygons) and o not in helpers]
+    visible = [o for o in meshes if not o.hide_viewport and
+               (o.name not in context.view_layer.objects or not o.hide_get())]
+    return visible or meshes
 
 
 def _single_mesh(context, objects, path):
     """Keep the mesh objects of `objects`, stripped of rigs and joined; delete the rest."""
-    meshes = [o for o in objects if o.type == "MESH" and len(o.data.polygons)]
+    meshes = _model_meshes(context, objects)
     if not meshes:
         for obj in objects:
             bpy.data.objects.remove(obj)

@@ -86,7 +86,8 @@ def render_rig_picture(context, path, arm_obj, mesh_obj, resolution=(960, 720)):
              "filepath": render.filepath, "format": render.image_settings.file_format,
              "color_mode": render.image_settings.color_mode, "light": shading.light,
              "color_type": shading.color_type, "mesh_color": tuple(mesh_obj.color),
-             "mesh_hidden": mesh_obj.hide_render}
+             "mesh_hidden": mesh_obj.hide_render,
+             "view": (scene.view_settings.view_transform, scene.view_settings.look)}
     world = bpy.data.worlds.new("dcg picture")
     world.color = BACKGROUND
     others = [o for o in scene.objects if o not in bones and o is not mesh_obj
@@ -99,6 +100,8 @@ def render_rig_picture(context, path, arm_obj, mesh_obj, resolution=(960, 720)):
             render.resolution_percentage = 100
             render.image_settings.file_format = "PNG"
             render.image_settings.color_mode = "RGBA"
+            # The kind colors as they are: AgX (the default since 4.0) would desaturate them.
+            scene.view_settings.view_transform, scene.view_settings.look = "Standard", "None"
             shading.light, shading.color_type = "STUDIO", "OBJECT"
             mesh_obj.color = (0.85, 0.85, 0.85, 1.0)
             for obj in others:
@@ -122,6 +125,7 @@ def render_rig_picture(context, path, arm_obj, mesh_obj, resolution=(960, 720)):
             render.filepath = saved["filepath"]
             render.image_settings.file_format = saved["format"]
             render.image_settings.color_mode = saved["color_mode"]
+            scene.view_settings.view_transform, scene.view_settings.look = saved["view"]
             shading.light, shading.color_type = saved["light"], saved["color_type"]
             mesh_obj.color, mesh_obj.hide_render = saved["mesh_color"], saved["mesh_hidden"]
             for obj in bones + [camera]:

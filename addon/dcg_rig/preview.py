@@ -22,7 +22,8 @@ def kind_material(kind):
     color = KIND_COLORS[kind][0]
     material = bpy.data.materials.new(name)
     material.diffuse_color = (*color, 1.0)
-    material.use_nodes = True
+    if material.node_tree is None:  # Blender < 5.0 (5.0 always has one; use_nodes is deprecated)
+        material.use_nodes = True
     nodes, links = material.node_tree.nodes, material.node_tree.links
     nodes.clear()
     emission = nodes.new("ShaderNodeEmission")

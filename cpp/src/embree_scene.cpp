@@ -101,12 +101,47 @@ void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direct
   ray.flags[k] = 0;
 }
 
-bool occluded(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
-              double tnear, double tfar) {
+#if DCG_EMBREE_MAJOR >= 4
+void intersect1(RTCScene scene, RTCRayHit* rayhit) { rtcIntersect1(scene, rayhit); }
+void occluded1(RTCScene scene, RTCRay* ray) { rtcOccluded1(scene, ray); }
+void intersect8(const int* valid, RTCScene scene, RTCRayHit8* rayhit, bool coherent) {
+  RTCIntersectArguments arguments;
+  rtcInitIntersectArguments(&arguments);
+  if (coherent) arguments.flags = RTC_RAY_QUERY_FLAG_COHERENT;
+  rtcIntersect8(valid, scene, rayhit, &arguments);
+}
+void occluded8(const int* valid, RTCScene scene, RTCRay8* ray) { rtcOccluded8(valid, scene, ray); }
+#else
+namespace {
+RTCIntersectContext intersect_context(bool coherent = false) {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  return context;
+}
+}  // namespace
+void intersect1(RTCScene scene, RTCRayHit* rayhit) {
+  RTCIntersectContext context = intersect_context();
+  rtcIntersect1(scene, &context, rayhit);
+}
+void occluded1(RTCScene scene, RTCRay* ray) {
+  RTCIntersectContext context = intersect_context();
+  rtcOccluded1(scene, &context, ray);
+}
+void intersect8(const int* valid, RTCScene scene, RTCRayHit8* rayhit, bool coherent) {
+  RTCIntersectContext context = intersect_context(coherent);
+  rtcIntersect8(valid, scene, &context, rayhit);
+}
+void occluded8(const int* valid, RTCScene scene, RTCRay8* ray) {
+  RTCIntersectContext context = intersect_context();
+  rtcOccluded8(valid, scene, &context, ray);
+}
+#endif
+
+bool occluded(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+              double tnear, double tfar) {
   RTCRay ray = single_ray(origin, direction, tnear, tfar);
-  rtcOccluded1(scene, &context, &ray);
+  occluded1(scene, &ray);
   return ray.tfar < 0;  // Embree sets tfar to -inf when the ray hits a triangle
 }
 

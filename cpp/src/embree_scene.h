@@ -5,7 +5,15 @@
 #include <functional>
 
 #include <Eigen/Core>
+// Embree 3 (Debian 12) or 4 (Debian 13): CMake writes DCG_EMBREE_MAJOR into embree_version.h. Code outside this header
+// and embree_scene.cpp calls the ray queries through the wrappers below, which hide the one API
+// difference that matters here (Embree 3's per-call intersect context, Embree 4's arguments).
+#include "embree_version.h"
+#if DCG_EMBREE_MAJOR >= 4
+#include <embree4/rtcore.h>
+#else
 #include <embree3/rtcore.h>
+#endif
 
 #include "dcg/types.h"
 
@@ -32,6 +40,13 @@ RTCRay single_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& directio
 /// Lane k of an 8-wide packet, set the same way as single_ray (floats already centered).
 void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direction[3],
                   float tnear, float tfar);
+
+/// rtcIntersect1 / rtcOccluded1 / rtcIntersect8 / rtcOccluded8 with default arguments, on Embree 3
+/// or 4. `coherent`: the rays of the packet share an origin (a hint for Embree's traversal).
+void intersect1(RTCScene scene, RTCRayHit* rayhit);
+void occluded1(RTCScene scene, RTCRay* ray);
+void intersect8(const int* valid, RTCScene scene, RTCRayHit8* rayhit, bool coherent);
+void occluded8(const int* valid, RTCScene scene, RTCRay8* ray);
 
 /// True when some triangle of `scene` lies on the ray (rtcOccluded1).
 bool occluded(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,

@@ -27,8 +27,6 @@
 #include <string>
 #include <vector>
 
-#include <embree3/rtcore.h>
-
 #include "dcg/errors.h"
 #include "edge_table.h"
 #include "embree_scene.h"
@@ -195,13 +193,11 @@ struct SurfaceQuery::Impl {
   // The first hit along origin + t * direction, t in (tnear, tfar); returns false when none.
   bool first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double tnear,
                  double tfar, double* t, int* face, double* u, double* v) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
     RTCRayHit rh;
     rh.ray = internal::single_ray(origin - center, direction, tnear, tfar);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene, &context, &rh);
+    internal::intersect1(scene, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     *t = rh.ray.tfar;
     *face = static_cast<int>(rh.hit.primID);
@@ -383,9 +379,6 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
   const float org[3] = {static_cast<float>(o.x()), static_cast<float>(o.y()),
                        static_cast<float>(o.z())};
   const float inf = std::numeric_limits<float>::infinity();
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // one origin, spread directions
   for (int start = 0; start < count; start += 8) {
     alignas(32) RTCRayHit8 rh;
     alignas(32) int valid[8];
@@ -397,7 +390,7 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
       rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect8(valid, m.scene, &context, &rh);
+    internal::intersect8(valid, m.scene, &rh, /*coherent=*/true);  // one origin
     for (int k = 0; k < n; ++k) {
       const bool hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
       t[start + k] = hit ? static_cast<double>(rh.ray.tfar[k]) : std::numeric_limits<double>::infinity();
@@ -421,8 +414,6 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
 void SurfaceQuery::segments_blocked(const double* a, const double* b, int count, double trim,
                                     unsigned char* blocked) const {
   const Impl& m = *impl_;
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
   const float t0 = static_cast<float>(std::max(0.0, trim)),
               t1 = static_cast<float>(std::min(1.0, 1.0 - trim));
   for (int start = 0; start < count; start += 8) {
@@ -442,7 +433,7 @@ void SurfaceQuery::segments_blocked(const double* a, const double* b, int count,
                             static_cast<float>(pb[2] - pa[2])};
       internal::set_ray_lane(ray, k, org, dir, t0, t1);
     }
-    rtcOccluded8(valid, m.scene, &context, &ray);
+    internal::occluded8(valid, m.scene, &ray);
     for (int k = 0; k < n; ++k) {
       blocked[start + k] = valid[k] && ray.tfar[k] < 0 ? 1 : 0;  // tfar = -inf when occluded
     }

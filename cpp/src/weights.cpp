@@ -22,7 +22,6 @@
 #include <vector>
 
 #include <Eigen/SparseCholesky>
-#include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
