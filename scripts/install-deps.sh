@@ -15,7 +15,7 @@ PACKAGES=(
   # What Blender needs to render headlessly (make rig's picture) and to load as PyPI's bpy;
   # a minimal Debian lacks them (Couldn't open libEGL.so.1).
   libegl1 libgl1 libx11-6 libxrender1 libxxf86vm1 libxfixes3 libxi6 libxkbcommon0 libsm6
-  clang libclang-rt-14-dev  # libFuzzer + sanitizers for scripts/run-fuzz.sh (make fuzz)
+  clang libclang-rt-dev  # libFuzzer + sanitizers for scripts/run-fuzz.sh (make fuzz)
 )
 
 missing=()
