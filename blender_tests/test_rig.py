@@ -216,3 +216,32 @@ def test_bones_are_colored_and_grouped_by_kind(spot):
             assert group.name == kind and tuple(group.colors.normal) == pytest.approx(normal, abs=0.005)  # stored in 8 bits
     if bpy.app.version >= (4, 0, 0):
         assert sorted(c.name for c in arm.data.collections) == sorted(kinds)
+
+
+def test_the_rig_picture_shows_the_kind_colors_and_restores_the_view_transform(spot, tmp_path):
+    """The picture renders with the Standard view transform (AgX, 4.x's default, would wash the
+    kind colors out) and gives the scene back its own."""
+    from dcg_rig import picture
+
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    (arm,) = armatures()
+    scene = bpy.context.scene
+    scene.view_settings.view_transform = "Filmic"
+    scene.view_settings.look = "None"
+    path = str(tmp_path / "rig.png")
+    picture.render_rig_picture(bpy.context, path, arm, spot, (240, 180))
+    assert scene.view_settings.view_transform == "Filmic"
+    image = bpy.data.images.load(path)
+    try:
+        pixels = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+    finally:
+        bpy.data.images.remove(image)
+    rgb = pixels.reshape(-1, 4)[:, :3]
+    # The background is the world color, sRGB-encoded as the Standard transform does it (AgX
+    # gives 0.68 for the 0.77 of the red channel here).
+    linear = np.array(picture.BACKGROUND)
+    srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * linear ** (1 / 2.4) - 0.055)
+    assert rgb[0] == pytest.approx(srgb, abs=0.015)
+    saturation = rgb.max(axis=1) - rgb.min(axis=1)
+    assert ((rgb[:, 2] > rgb[:, 0]) & (saturation > 0.3)).sum() > 100  # the blue bones
