@@ -75,19 +75,31 @@ skip_suite() {  # file suite reason
   /usr/bin/python3 scripts/test_summary.py --skip "$1" "$2" "$3"
   echo "skipped: $3"
 }
+EXTENSION=${EXTENSION:-$(ls -t "$ROOT"/out/dcg_rig-*.zip 2>/dev/null | head -1)}
 BLENDER_RESULT="$RESULTS/blender-debian.xml"
-header "Blender tests: the distribution's blender (legacy add-on)"
-if command -v blender >/dev/null; then
+DEBIAN_BLENDER=$(blender -b --factory-startup --python-expr \
+  'import bpy; print("DCG-VERSION %d.%d" % bpy.app.version[:2])' 2>/dev/null |
+  sed -n 's/^DCG-VERSION //p' || true)
+if [ -z "$DEBIAN_BLENDER" ]; then
+  header "Blender tests: the distribution's blender"
+  skip_suite "$BLENDER_RESULT" blender-debian "no working blender on PATH"
+elif [ "$(printf '4.2\n%s\n' "$DEBIAN_BLENDER" | sort -V | head -1)" = 4.2 ] && [ -n "$EXTENSION" ]; then
+  # 4.2 or later (Debian 13's 4.3): the extension, as its users install it.
+  header "Blender tests: the distribution's blender $DEBIAN_BLENDER (the extension)"
+  user=$(mktemp -d)
+  BLENDER_USER_RESOURCES="$user" DCG_EXTENSION="$EXTENSION" \
+    blender -b --factory-startup --python-exit-code 1 --python blender_tests/run.py -- \
+    --junitxml "$BLENDER_RESULT" 2>&1 | grep -v -e '^Read prefs' -e '^Blender quit' -e '^$' || true
+  rm -rf "$user"
+else
+  header "Blender tests: the distribution's blender $DEBIAN_BLENDER (legacy add-on)"
   BLENDER_USER_SCRIPTS="$BUILD/blender_scripts" DCG_PYTHONPATH="$BUILD/python" \
     blender -b --factory-startup --python-exit-code 1 --python blender_tests/run.py -- \
     --junitxml "$BLENDER_RESULT" 2>&1 | grep -v -e '^Read prefs' -e '^Blender quit' \
     -e '^$' || true
-else
-  skip_suite "$BLENDER_RESULT" blender-debian "no blender on PATH"
 fi
 BLENDER_FILES+=("$BLENDER_RESULT")
 
-EXTENSION=${EXTENSION:-$(ls -t "$ROOT"/out/dcg_rig-*.zip 2>/dev/null | head -1)}
 for series in ${BPY_SERIES:-4.2 4.5 5.0 5.1}; do
   result="$RESULTS/blender-bpy-$series.xml"
   BLENDER_FILES+=("$result")
