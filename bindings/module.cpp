@@ -30,7 +30,7 @@ PYBIND11_MODULE(_core, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const dcg::Cancelled& e) {
-      cancelled(e.what());
+      set_error(cancelled.ptr(), e.what());  // not cancelled(...): deprecated in pybind11 2.12
     } catch (const dcg::InputError& e) {
       set_error(PyExc_ValueError, e.what());
     } catch (const dcg::IoError& e) {

@@ -26,14 +26,15 @@ FAST_FLAGS = ["--samples", "1000", "--target-faces", "3000"]
 
 def write_obj(path, V, F):
     path.parent.mkdir(parents=True, exist_ok=True)
-    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in V] + [f"f {a + 1} {b + 1} {c + 1}"
-                                                           for a, b, c in F]
+    # .tolist(): Python floats, whose repr is the number (numpy 2's is "np.float64(...)").
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in V.tolist()] + [
+        f"f {a + 1} {b + 1} {c + 1}" for a, b, c in F]
     path.write_text("\n".join(lines) + "\n")
 
 
 def write_off(path, V, F):
     path.parent.mkdir(parents=True, exist_ok=True)
-    lines = ["OFF", f"{len(V)} {len(F)} 0"] + [f"{x!r} {y!r} {z!r}" for x, y, z in V]
+    lines = ["OFF", f"{len(V)} {len(F)} 0"] + [f"{x!r} {y!r} {z!r}" for x, y, z in V.tolist()]
     path.write_text("\n".join(lines + [f"3 {a} {b} {c}" for a, b, c in F]) + "\n")
 
 

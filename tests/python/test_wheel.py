@@ -13,7 +13,9 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 WHEELS = sorted((REPO / "out" / "wheels").glob("dcg-*.whl"))
-AUDITWHEEL = REPO / ".venv" / "wheel-3.11" / "bin" / "auditwheel"
+# make wheel's build tools (.venv/wheel-3.11 on Debian 12, wheel-3.13 on Debian 13).
+AUDITWHEEL = next(iter(sorted((REPO / ".venv").glob("wheel-*/bin/auditwheel"))),
+                  REPO / ".venv" / "wheel-3.11" / "bin" / "auditwheel")
 # What the wheel must carry rather than take from the system.
 BUNDLED = ("libembree", "libtbb", "libgmp", "libmpfr")
 
@@ -64,16 +66,27 @@ def test_the_module_loads_its_libraries_from_the_wheel_not_the_system(tmp_path):
         assert picked and all(t.startswith(str(tmp_path / "dcg.libs")) for t in picked), ldd
 
 
-def test_a_clean_venv_imports_and_runs_the_installed_wheel(tmp_path):
-    """pyenv's Python 3.11 (numpy 2 there), not the Debian Python the build uses."""
-    candidates = [p for p in (os.path.expanduser("~/.pyenv/shims/python3.11"),
-                              "/usr/local/bin/python3.11") if os.path.exists(p)]
-    python = candidates[0] if candidates else sys.executable
+def interpreter_for(wheel):
+    """A Python of the wheel's version, pyenv's first (numpy 2 there), else Debian's."""
+    version = wheel.name.split("-")[2][2:]
+    version = f"{version[0]}.{version[1:]}"
+    for path in (os.path.expanduser(f"~/.pyenv/shims/python{version}"),
+                 f"/usr/local/bin/python{version}", f"/usr/bin/python{version}"):
+        if os.path.exists(path) and subprocess.run(
+                [path, "-c", "import numpy, venv"], capture_output=True).returncode == 0:
+            return path
+    return None
+
+
+@pytest.mark.parametrize("wheel", WHEELS, ids=lambda w: w.name.split("-")[2])
+def test_a_clean_venv_imports_and_runs_the_installed_wheel(wheel, tmp_path):
+    """In a venv of its own (numpy from the interpreter's site-packages, nothing else), the
+    installed wheel loads and rigs spot, away from the source tree and the build folder."""
+    python = interpreter_for(wheel)
+    if python is None:
+        pytest.skip(f"no Python with numpy for {wheel.name}")
     target = tmp_path / "venv"
-    wheel = next((w for w in WHEELS if "-cp311-" in w.name), None)
-    if wheel is None:
-        pytest.skip("no cp311 wheel")
-    subprocess.run([python, "-m", "venv", "--system-site-packages", "--clear", str(target)],
+    subprocess.run([python, "-m", "venv", "--system-site-packages", str(target)],
                    check=True, timeout=120)
     py = str(target / "bin" / "python")
     subprocess.run([py, "-m", "pip", "install", "-q", "--no-deps", "--no-index", str(wheel)],
