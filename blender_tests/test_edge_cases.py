@@ -75,6 +75,21 @@ def test_an_existing_foreign_armature_modifier_is_disabled_with_a_warning():
                for m in obj.modifiers)
 
 
+def test_a_fallback_skeleton_is_rigged_with_a_warning(dcg):
+    """When stages 4-8 fail the engine returns its fallback skeleton; the user is told so."""
+    import dataclasses
+
+    from dcg_rig import mesh_io, rigging
+
+    obj = add_mesh("capsule", *capsule())
+    skeleton = dcg.extract_skeleton(*mesh_io.evaluated_world_mesh(bpy.context, obj))
+    assert skeleton.method == "dcg" and rigging.fallback_warning(skeleton.method) is None
+    fallback = dataclasses.replace(skeleton, method="interim_graph (fallback: no prong)")
+    result = rigging.apply_rig(bpy.context, obj, fallback, "ENVELOPE")
+    assert result.warnings and "fallback skeleton" in result.warnings[0]
+    assert "no prong" in result.warnings[0]
+
+
 def test_edit_mode_is_refused_by_poll():
     add_mesh("capsule", *capsule())
     bpy.ops.object.mode_set(mode="EDIT")

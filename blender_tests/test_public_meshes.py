@@ -93,10 +93,7 @@ def test_every_bone_lies_inside_the_mesh(rigged):
             if not inside(tree, local, size):
                 outside.append(point)
     message = f"{len(outside)} of {5 * len(heads)} bone samples outside the mesh"
-    if outside and arm.get("dcg_method") == "interim_graph":
-        # The stand-in skeleton (minimum spanning tree of the domain points) may cut corners;
-        # the real one (engine part 2) must pass. Reported as an expected failure, not a pass.
-        pytest.xfail(f"interim skeleton: {message}")
+    assert arm.get("dcg_method") == "dcg"  # never the fallback skeleton on these meshes
     assert not outside, message
 
 
@@ -132,6 +129,4 @@ def test_posing_an_end_bone_moves_its_prong_and_no_other(rigged):
     if far:
         problems.append(f"{len(far)} of {len(others)} other tips moved (max {max(far):.2e} "
                         "of the diagonal)")
-    if problems and arm.get("dcg_method") == "interim_graph":
-        pytest.xfail("interim skeleton: " + "; ".join(problems))
     assert not problems, "; ".join(problems)

@@ -108,4 +108,15 @@ def apply_rig(context, mesh_obj, skeleton, weight_method="DCG", bone_detail=0.5,
         armature.remove_armature(old)
     preview.clear_preview()
     warnings += disable_foreign_armatures(mesh_obj, arm_obj)
-    return RigResult(arm_obj, len(plan), warnings)
+    fallback = fallback_warning(skeleton.method)
+    return RigResult(arm_obj, len(plan), ([fallback] if fallback else []) + warnings)
+
+
+def fallback_warning(method):
+    """What to tell the user when the engine gave its fallback skeleton (method
+    "interim_graph (fallback: <reason>)"), or None for a DCG skeleton."""
+    if not method.startswith("interim_graph"):
+        return None
+    reason = method.partition("fallback:")[2].rstrip(")").strip() or "unknown reason"
+    return (f"the DCG skeleton failed ({reason}): rigged with the fallback skeleton, a tree "
+            "of the domain points that may cut corners; check the bones")

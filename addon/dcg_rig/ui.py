@@ -73,6 +73,8 @@ class VIEW3D_PT_dcg_rig(bpy.types.Panel):
         box.label(text=f"{rig.name}: {len(kinds)} bones", icon="BONE_DATA")
         box.label(text=", ".join(f"{kinds.count(k)} {k}" for k in ("end", "joint",
                                                                    "connection")))
+        if rig.get("dcg_method", "dcg") != "dcg":
+            box.label(text="Fallback skeleton: the DCG failed on this mesh", icon="ERROR")
         timings = rig.get("dcg_timings")
         if timings:
             col = box.column(align=True)
