@@ -22,10 +22,9 @@ def check_weighted(obj, max_influences=4):
     assert np.allclose(sums, 1.0, atol=1e-3), f"{np.sum(~np.isclose(sums, 1, atol=1e-3))} bad"
 
 
-def test_dcg_is_the_default_weights_method():
-    from dcg_rig import options
-
-    assert options.ADDON_DEFAULTS["weights"] == "DCG"
+def test_dcg_is_the_default_weights_method_of_the_panel_and_the_operator():
+    for rna in (bpy.context.scene.dcg_rig.bl_rna, bpy.ops.object.dcg_auto_rig.get_rna_type()):
+        assert rna.properties["weights"].default == "DCG"
 
 
 @pytest.mark.parametrize("scale", [0.01, 1.0])

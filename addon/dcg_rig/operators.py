@@ -158,8 +158,8 @@ class _EngineOperator:
 
     def compute(self, engine):
         """Return the engine call, `f(V, F, progress=..., **options)`, whose result
-        `finish` receives."""
-        return engine.extract_skeleton
+        `finish` receives (each operator says which)."""
+        raise NotImplementedError
 
     def finish_checked(self, context, mesh_obj, skeleton, values):
         """Run `finish`, turning any exception into an error report."""

@@ -6,12 +6,6 @@ engine's. The add-on's own settings (weights, bone detail) live in `ADDON_DEFAUL
 
 from dataclasses import dataclass
 
-# Choices of the string options whose OptionInfo carries no `choices` attribute.
-KNOWN_CHOICES = {
-    "repair": (("auto", "Auto", "Wrap open or non-manifold input in a closed proxy"),
-               ("none", "None", "Fail on open or non-manifold input, naming the problem")),
-}
-
 # The add-on's own settings, shared by the panel, the operators and the CLI.
 ADDON_DEFAULTS = {"weights": "DCG", "bone_detail": 0.5}
 
@@ -77,11 +71,7 @@ def option_specs(engine_options):
     for name, info in engine_options.items():
         default = info.default
         if isinstance(default, str):
-            choices = tuple(getattr(info, "choices", None) or ())
-            if choices:
-                choices = tuple((c, label(c), c) for c in choices)
-            else:
-                choices = KNOWN_CHOICES.get(name, ((default, label(default), default),))
+            choices = tuple((c, label(c), c) for c in (info.choices or (default,)))
             specs.append(OptionSpec(name, "enum", default, None, None, info.description,
                                     choices))
         elif isinstance(default, bool):

@@ -92,7 +92,7 @@ double now_seconds() {
   return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
 }
 
-// --- interim graph (until stages 4-8 land) -----------------------------------------------------
+// --- interim graph (the fallback when stages 4-8 fail) ------------------------------------------
 
 // Minimum spanning tree of the complete Euclidean graph on `points` (Prim, O(k^2) time, O(k)
 // memory). Fine for the few thousand domain points of stage 2.
