@@ -5,10 +5,13 @@
 #include <functional>
 
 #include <Eigen/Core>
-// Embree 3 (Debian 12) or 4 (Debian 13): CMake writes DCG_EMBREE_MAJOR into embree_version.h. Code outside this header
-// and embree_scene.cpp calls the ray queries through the wrappers below, which hide the one API
+// Embree 3 (Debian 12) or 4 (Debian 13): CMake defines DCG_EMBREE_MAJOR for the sources that
+// include this header (CMakeLists.txt lists them). Code outside this header and
+// embree_scene.cpp calls the ray queries through the wrappers below, which hide the one API
 // difference that matters here (Embree 3's per-call intersect context, Embree 4's arguments).
-#include "embree_version.h"
+#ifndef DCG_EMBREE_MAJOR
+#error "DCG_EMBREE_MAJOR is not defined: add this source to the embree list in CMakeLists.txt"
+#endif
 #if DCG_EMBREE_MAJOR >= 4
 #include <embree4/rtcore.h>
 #else
