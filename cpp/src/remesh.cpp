@@ -22,7 +22,12 @@
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_placement.h>
+// CGAL 6 renamed Count_stop_predicate (the same edge-count stop) and deprecated the old header.
+#if CGAL_VERSION_NR >= CGAL_VERSION_NUMBER(6, 0, 0)
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_count_stop_predicate.h>
+#else
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#endif
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
 #include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
@@ -138,7 +143,11 @@ Mesh remesh_uniform(const Mesh& input, int target_faces,
   const double L = std::min(std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces)),
                             diagonal / 20.0);
   if (static_cast<double>(sm.number_of_faces()) > 2.0 * target_faces) {
+#if CGAL_VERSION_NR >= CGAL_VERSION_NUMBER(6, 0, 0)
+    SMS::Edge_count_stop_predicate<SM> stop(static_cast<std::size_t>(1.5 * target_faces));
+#else
     SMS::Count_stop_predicate<SM> stop(static_cast<std::size_t>(1.5 * target_faces));
+#endif
     PollingCollapseVisitor visitor;
     visitor.poll = &poll;
     visitor.from = 0.0;
