@@ -4,6 +4,7 @@ The extension (Blender 4.2+) has its own tests in test_extension.py."""
 import importlib.util
 import os
 import subprocess
+import zipfile
 
 import bpy
 import pytest
@@ -33,6 +34,7 @@ def test_the_zip_installs_enables_and_rigs_in_a_clean_blender(repo, tmp_path):
     archive = tmp_path / "dcg_rig.zip"
     source = os.path.join(os.environ["BLENDER_USER_SCRIPTS"], "addons", "dcg_rig")
     assert maker.make_zip(source, archive) > 5
+    assert "dcg_rig/blender_manifest.toml" not in zipfile.ZipFile(archive).namelist()
     script = tmp_path / "install.py"
     script.write_text(SCRIPT)
     clean = tmp_path / "clean"

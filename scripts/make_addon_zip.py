@@ -24,7 +24,9 @@ def make_zip(addon_dir, zip_path):
         for folder, subfolders, files in os.walk(addon_dir):
             subfolders[:] = sorted(d for d in subfolders if d != "__pycache__")
             for name in sorted(files):
-                if name.endswith(".pyc"):
+                # The extension's manifest stays out: Blender 4.2+ would take the zip for an
+                # extension (without its wheels); this zip is the legacy add-on for 3.x.
+                if name.endswith(".pyc") or name == "blender_manifest.toml":
                     continue
                 path = os.path.join(folder, name)
                 archive.write(path, os.path.join(top, os.path.relpath(path, addon_dir)))
