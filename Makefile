@@ -19,15 +19,15 @@ deps:
 	@bash scripts/install-deps.sh
 
 # Configure once (Ninja re-runs CMake by itself when a CMakeLists.txt changes), then build.
+CONFIGURE = [ -f $(BUILD)/build.ninja ] || cmake -S . -B $(BUILD) -G Ninja \
+  -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(PYTHON) $(CMAKE_FLAGS)
 build: deps
-	@[ -f $(BUILD)/build.ninja ] || cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release \
-	  -DPython_EXECUTABLE=$(PYTHON) $(CMAKE_FLAGS)
+	@$(CONFIGURE)
 	@cmake --build $(BUILD) -j$(JOBS)
 
 # What rigging needs and nothing more (the engine, its module, the assembled add-on): no tests.
 build-rig: deps
-	@[ -f $(BUILD)/build.ninja ] || cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release \
-	  -DPython_EXECUTABLE=$(PYTHON) $(CMAKE_FLAGS)
+	@$(CONFIGURE)
 	@cmake --build $(BUILD) --target python_package -j$(JOBS)
 
 # Rig MESH (default: the bundled Spot) headlessly: out/<model>.blend, .glb, .fbx and .png.

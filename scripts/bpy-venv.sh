@@ -16,15 +16,7 @@ case "$SERIES" in
   4.*|5.0) PYVER=3.11 ;;
   *) PYVER=3.13 ;;
 esac
-PY=""
-for cand in "python$PYVER" /usr/bin/python$PYVER python3; do
-  if command -v "$cand" >/dev/null 2>&1 &&
-     [ "$("$cand" -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null)" = "$PYVER" ] &&
-     "$cand" -c 'import venv, ensurepip' >/dev/null 2>&1; then
-    PY=$(command -v "$cand"); break
-  fi
-done
-if [ -z "$PY" ]; then
+if ! PY=$(bash "$(dirname "$0")/find-python.sh" "$PYVER"); then
   echo "no Python $PYVER with venv and ensurepip on this machine (bpy $SERIES needs it)"
   exit 3
 fi

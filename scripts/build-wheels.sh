@@ -11,19 +11,8 @@ OUT=$(realpath -m "${1:-out/wheels}")
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT"
 mkdir -p "$OUT"
-built=0
 for version in 3.11 3.13; do
-  py=""
-  for cand in "python$version" "/usr/bin/python$version"; do
-    if command -v "$cand" >/dev/null 2>&1 && "$cand" -c '
-import os, sys, sysconfig, venv, ensurepip
-assert "%d.%d" % sys.version_info[:2] == sys.argv[1]
-assert os.path.isfile(os.path.join(sysconfig.get_paths()["include"], "Python.h"))' "$version" \
-      >/dev/null 2>&1; then
-      py=$(command -v "$cand"); break
-    fi
-  done
-  if [ -z "$py" ]; then
+  if ! py=$(bash scripts/find-python.sh "$version" --headers); then
     echo "build-wheels: skipped: cp${version/./} (no Python $version with headers, venv and ensurepip)"
     continue
   fi
@@ -53,6 +42,5 @@ assert os.path.isfile(os.path.join(sysconfig.get_paths()["include"], "Python.h")
     exit 1
   fi
   grep -i "fixed-up wheel" "$raw-repair.log" || true
-  built=$((built + 1))
 done
 ls "$OUT"/dcg-*.whl 2>/dev/null || { echo "build-wheels: error: no wheel built" >&2; exit 1; }

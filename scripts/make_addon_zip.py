@@ -12,6 +12,19 @@ import sys
 import zipfile
 
 
+def addon_files(addon_dir, skipped_dirs=("__pycache__",)):
+    """(path, path relative to `addon_dir`) of the add-on's files, sorted, without caches,
+    the folders `skipped_dirs` and the extension's manifest template (blender_manifest.toml:
+    the legacy zip must not carry it, Blender 4.2+ would take the zip for an extension without
+    its wheels; make_extension.py writes the completed one itself)."""
+    for folder, subfolders, files in os.walk(addon_dir):
+        subfolders[:] = sorted(d for d in subfolders if d not in skipped_dirs)
+        for name in sorted(files):
+            if not name.endswith(".pyc") and name != "blender_manifest.toml":
+                path = os.path.join(folder, name)
+                yield path, os.path.relpath(path, addon_dir)
+
+
 def make_zip(addon_dir, zip_path):
     """Write `zip_path` from `addon_dir` (skipping caches); return the number of files."""
     addon_dir = os.path.abspath(addon_dir)
@@ -21,16 +34,9 @@ def make_zip(addon_dir, zip_path):
     count = 0
     top = os.path.basename(addon_dir)
     with zipfile.ZipFile(zip_path, "w", zipfile.ZIP_DEFLATED) as archive:
-        for folder, subfolders, files in os.walk(addon_dir):
-            subfolders[:] = sorted(d for d in subfolders if d != "__pycache__")
-            for name in sorted(files):
-                # The extension's manifest stays out: Blender 4.2+ would take the zip for an
-                # extension (without its wheels); this zip is the legacy add-on for 3.x.
-                if name.endswith(".pyc") or name == "blender_manifest.toml":
-                    continue
-                path = os.path.join(folder, name)
-                archive.write(path, os.path.join(top, os.path.relpath(path, addon_dir)))
-                count += 1
+        for path, relative in addon_files(addon_dir):
+            archive.write(path, os.path.join(top, relative))
+            count += 1
     return count
 
 

@@ -13,13 +13,13 @@ installs the zip into each Blender 4.2+ it runs.
 import argparse
 import os
 import re
+import shutil
 import sys
+import tomllib
 import zipfile
 
-try:
-    import tomllib
-except ImportError:  # Python < 3.11
-    tomllib = None
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from make_addon_zip import addon_files  # noqa: E402  (the legacy zip's file list)
 
 # A wheel's platform tag -> Blender's platform name.
 PLATFORMS = (
@@ -30,7 +30,7 @@ PLATFORMS = (
     (re.compile(r"win_amd64$"), "windows-x64"),
     (re.compile(r"win_arm64$"), "windows-arm64"),
 )
-SKIPPED_DIRS = {"__pycache__", "_vendor"}
+SKIPPED_DIRS = ("__pycache__", "_vendor")
 
 
 def wheel_platforms(wheel):
@@ -50,65 +50,54 @@ def manifest_text(template, wheels):
     quoted = lambda items: "[" + ", ".join(f'"{item}"' for item in items) + "]"  # noqa: E731
     added = [f"platforms = {quoted(platforms)}",
              f"wheels = {quoted('./wheels/' + os.path.basename(w) for w in sorted(wheels))}", ""]
-    text = "\n".join(lines[:first_table] + added + lines[first_table:]) + "\n"
-    if tomllib is not None:
-        tomllib.loads(text)  # a broken template fails here, not inside Blender
-    return text
+    return "\n".join(lines[:first_table] + added + lines[first_table:]) + "\n"
 
 
-def add_tree(archive, addon_dir):
-    """Add the add-on's files at the zip's root, without caches, _vendor/ and the template."""
-    count = 0
-    for folder, subfolders, files in os.walk(addon_dir):
-        subfolders[:] = sorted(d for d in subfolders if d not in SKIPPED_DIRS)
-        for name in sorted(files):
-            if name.endswith(".pyc") or name == "blender_manifest.toml":
-                continue
-            path = os.path.join(folder, name)
-            archive.write(path, os.path.relpath(path, addon_dir))
-            count += 1
-    return count
-
-
-def stage_extension(addon_dir, wheels, folder, license_file=None):
-    """Write the extension's tree into `folder` instead of a zip: the input of
-    `blender --command extension build --split-platforms` (one zip per platform, on a CI that
-    has the wheels of every platform)."""
-    import shutil
-
+def extension_files(addon_dir, wheels, license_file=None):
+    """The extension's contents: (name in the extension, source file or None, text or None),
+    the completed manifest first. Its `id` and `version` are returned too, for the zip's name.
+    A broken manifest template fails here (tomllib), not inside Blender."""
     with open(os.path.join(addon_dir, "blender_manifest.toml"), encoding="utf-8") as f:
         text = manifest_text(f.read(), wheels)
-    shutil.rmtree(folder, ignore_errors=True)
-    shutil.copytree(addon_dir, folder, ignore=shutil.ignore_patterns(*SKIPPED_DIRS, "*.pyc"))
-    with open(os.path.join(folder, "blender_manifest.toml"), "w", encoding="utf-8") as f:
-        f.write(text)
+    manifest = tomllib.loads(text)
+    files = [("blender_manifest.toml", None, text)]
+    files += [(relative, path, None) for path, relative in addon_files(addon_dir, SKIPPED_DIRS)]
     if license_file:
-        shutil.copy(license_file, os.path.join(folder, "LICENSE"))
-    os.makedirs(os.path.join(folder, "wheels"))
-    for wheel in wheels:
-        shutil.copy(wheel, os.path.join(folder, "wheels"))
-    return folder
+        files.append(("LICENSE", license_file, None))
+    files += [("wheels/" + os.path.basename(w), w, None) for w in sorted(wheels)]
+    return manifest["id"], manifest["version"], files
 
 
 def make_extension(addon_dir, wheels, out_dir, license_file=None):
     """Write <out_dir>/<id>-<version>.zip; return its path."""
-    with open(os.path.join(addon_dir, "blender_manifest.toml"), encoding="utf-8") as f:
-        template = f.read()
     if not wheels:
         raise SystemExit("error: no engine wheel given (build them with `make wheel`)")
-    text = manifest_text(template, wheels)
-    ident = re.search(r'^id\s*=\s*"([^"]+)"', text, re.M).group(1)
-    version = re.search(r'^version\s*=\s*"([^"]+)"', text, re.M).group(1)
+    ident, version, files = extension_files(addon_dir, wheels, license_file)
     os.makedirs(out_dir, exist_ok=True)
     path = os.path.join(out_dir, f"{ident}-{version}.zip")
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as archive:
-        archive.writestr("blender_manifest.toml", text)
-        add_tree(archive, addon_dir)
-        if license_file:
-            archive.write(license_file, "LICENSE")
-        for wheel in sorted(wheels):
-            archive.write(wheel, "wheels/" + os.path.basename(wheel), zipfile.ZIP_STORED)
+        for name, source, text in files:
+            if text is not None:
+                archive.writestr(name, text)
+            else:  # wheels are zips already
+                archive.write(source, name, zipfile.ZIP_STORED if name.endswith(".whl") else None)
     return path
+
+
+def stage_extension(addon_dir, wheels, folder, license_file=None):
+    """Write the same contents into `folder` instead of a zip: the input of
+    `blender --command extension build --split-platforms` (one zip per platform, on a CI that
+    has the wheels of every platform)."""
+    shutil.rmtree(folder, ignore_errors=True)
+    for name, source, text in extension_files(addon_dir, wheels, license_file)[2]:
+        target = os.path.join(folder, name)
+        os.makedirs(os.path.dirname(target), exist_ok=True)
+        if text is not None:
+            with open(target, "w", encoding="utf-8") as f:
+                f.write(text)
+        else:
+            shutil.copy(source, target)
+    return folder
 
 
 def main(argv=None):

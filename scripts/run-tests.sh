@@ -75,6 +75,25 @@ skip_suite() {  # file suite reason
   /usr/bin/python3 scripts/test_summary.py --skip "$1" "$2" "$3"
   echo "skipped: $3"
 }
+# blender_suite RESULT EXTENSION COMMAND...: blender_tests/run.py under COMMAND (a Blender
+# application's `blender -b ... --python`, or a bpy venv's python), with the extension zip
+# EXTENSION installed into a clean temporary user folder, or with the build output's legacy
+# add-on when EXTENSION is empty.
+blender_suite() {
+  local result=$1 extension=$2 user
+  shift 2
+  user=$(mktemp -d)
+  if [ -n "$extension" ]; then
+    BLENDER_USER_RESOURCES="$user" DCG_EXTENSION="$extension" "$@" blender_tests/run.py -- \
+      --junitxml "$result"
+  else
+    BLENDER_USER_SCRIPTS="$BUILD/blender_scripts" DCG_PYTHONPATH="$BUILD/python" "$@" \
+      blender_tests/run.py -- --junitxml "$result"
+  fi 2>&1 | grep -v -e '^Read prefs' -e '^Blender quit' -e '^$' || true
+  rm -rf "$user"
+}
+BLENDER_APP=(blender -b --factory-startup --python-exit-code 1 --python)
+
 EXTENSION=${EXTENSION:-$(ls -t "$ROOT"/out/dcg_rig-*.zip 2>/dev/null | head -1)}
 BLENDER_RESULT="$RESULTS/blender-debian.xml"
 DEBIAN_BLENDER=$(blender -b --factory-startup --python-expr \
@@ -86,17 +105,10 @@ if [ -z "$DEBIAN_BLENDER" ]; then
 elif [ "$(printf '4.2\n%s\n' "$DEBIAN_BLENDER" | sort -V | head -1)" = 4.2 ] && [ -n "$EXTENSION" ]; then
   # 4.2 or later (Debian 13's 4.3): the extension, as its users install it.
   header "Blender tests: the distribution's blender $DEBIAN_BLENDER (the extension)"
-  user=$(mktemp -d)
-  BLENDER_USER_RESOURCES="$user" DCG_EXTENSION="$EXTENSION" \
-    blender -b --factory-startup --python-exit-code 1 --python blender_tests/run.py -- \
-    --junitxml "$BLENDER_RESULT" 2>&1 | grep -v -e '^Read prefs' -e '^Blender quit' -e '^$' || true
-  rm -rf "$user"
+  blender_suite "$BLENDER_RESULT" "$EXTENSION" "${BLENDER_APP[@]}"
 else
   header "Blender tests: the distribution's blender $DEBIAN_BLENDER (legacy add-on)"
-  BLENDER_USER_SCRIPTS="$BUILD/blender_scripts" DCG_PYTHONPATH="$BUILD/python" \
-    blender -b --factory-startup --python-exit-code 1 --python blender_tests/run.py -- \
-    --junitxml "$BLENDER_RESULT" 2>&1 | grep -v -e '^Read prefs' -e '^Blender quit' \
-    -e '^$' || true
+  blender_suite "$BLENDER_RESULT" "" "${BLENDER_APP[@]}"
 fi
 BLENDER_FILES+=("$BLENDER_RESULT")
 
@@ -111,11 +123,7 @@ for series in ${BPY_SERIES:-4.2 4.5 5.0 5.1}; do
     skip_suite "$result" "blender-bpy-$series" "bpy $series: ${reason:-$(tail -1 "$RESULTS/bpy-$series-venv.log")}"
     continue
   fi
-  user=$(mktemp -d)
-  BLENDER_USER_RESOURCES="$user" DCG_EXTENSION="$EXTENSION" \
-    "$ROOT/.venv/bpy-$series/bin/python" blender_tests/run.py -- --junitxml "$result" 2>&1 |
-    grep -v -e '^$' -e "^Blender quit" || true
-  rm -rf "$user"
+  blender_suite "$result" "$EXTENSION" "$ROOT/.venv/bpy-$series/bin/python"
 done
 
 header "Summary"

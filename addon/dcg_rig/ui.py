@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import _engine, armature, properties
+from . import _engine, armature, properties, rigging
 
 #: Engine options shown in the main panel; the others go to "Advanced".
 MAIN_OPTIONS = ("tau", "target_faces", "repair")
@@ -73,7 +73,7 @@ class VIEW3D_PT_dcg_rig(bpy.types.Panel):
         box.label(text=f"{rig.name}: {len(kinds)} bones", icon="BONE_DATA")
         box.label(text=", ".join(f"{kinds.count(k)} {k}" for k in ("end", "joint",
                                                                    "connection")))
-        if rig.get("dcg_method", "dcg") != "dcg":
+        if rigging.fallback_warning(rig.get("dcg_method", "dcg")):
             box.label(text="Fallback skeleton: the DCG failed on this mesh", icon="ERROR")
         timings = rig.get("dcg_timings")
         if timings:

@@ -22,7 +22,8 @@
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_placement.h>
-// CGAL 6 renamed Count_stop_predicate (the same edge-count stop) and deprecated the old header.
+// CGAL 6 renamed Count_stop_predicate (the same edge-count stop) and deprecated the old header;
+// EdgeCountStop below is whichever this CGAL has.
 #if CGAL_VERSION_NR >= CGAL_VERSION_NUMBER(6, 0, 0)
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_count_stop_predicate.h>
 #else
@@ -45,6 +46,11 @@ namespace SMS = CGAL::Surface_mesh_simplification;
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = K::Point_3;
 using SM = CGAL::Surface_mesh<Point>;
+#if CGAL_VERSION_NR >= CGAL_VERSION_NUMBER(6, 0, 0)
+using EdgeCountStop = SMS::Edge_count_stop_predicate<SM>;
+#else
+using EdgeCountStop = SMS::Count_stop_predicate<SM>;
+#endif
 
 // Cancellation from inside CGAL: the edge collapse calls its visitor for every edge it collects
 // and every collapse it selects; the isotropic remeshing reads its vertex-is-constrained map for
@@ -143,11 +149,7 @@ Mesh remesh_uniform(const Mesh& input, int target_faces,
   const double L = std::min(std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces)),
                             diagonal / 20.0);
   if (static_cast<double>(sm.number_of_faces()) > 2.0 * target_faces) {
-#if CGAL_VERSION_NR >= CGAL_VERSION_NUMBER(6, 0, 0)
-    SMS::Edge_count_stop_predicate<SM> stop(static_cast<std::size_t>(1.5 * target_faces));
-#else
-    SMS::Count_stop_predicate<SM> stop(static_cast<std::size_t>(1.5 * target_faces));
-#endif
+    EdgeCountStop stop(static_cast<std::size_t>(1.5 * target_faces));
     PollingCollapseVisitor visitor;
     visitor.poll = &poll;
     visitor.from = 0.0;

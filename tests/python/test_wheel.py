@@ -67,15 +67,16 @@ def test_the_module_loads_its_libraries_from_the_wheel_not_the_system(tmp_path):
 
 
 def interpreter_for(wheel):
-    """A Python of the wheel's version, pyenv's first (numpy 2 there), else Debian's."""
-    version = wheel.name.split("-")[2][2:]
-    version = f"{version[0]}.{version[1:]}"
-    for path in (os.path.expanduser(f"~/.pyenv/shims/python{version}"),
-                 f"/usr/local/bin/python{version}", f"/usr/bin/python{version}"):
-        if os.path.exists(path) and subprocess.run(
-                [path, "-c", "import numpy, venv"], capture_output=True).returncode == 0:
-            return path
-    return None
+    """A Python of the wheel's version with numpy (scripts/find-python.sh: pyenv's first, numpy
+    2 there, else Debian's), or None."""
+    tag = wheel.name.split("-")[2][2:]
+    found = subprocess.run(["bash", str(REPO / "scripts" / "find-python.sh"),
+                            f"{tag[0]}.{tag[1:]}"], capture_output=True, text=True)
+    path = found.stdout.strip()
+    if found.returncode != 0 or subprocess.run([path, "-c", "import numpy"],
+                                               capture_output=True).returncode != 0:
+        return None
+    return path
 
 
 @pytest.mark.parametrize("wheel", WHEELS, ids=lambda w: w.name.split("-")[2])
