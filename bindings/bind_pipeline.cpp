@@ -7,49 +7,6 @@
 namespace dcg_py {
 namespace {
 
-dcg::Options options_from_dict(const py::dict& values) {
-  dcg::Options options;
-  for (const auto& item : values) {
-    const std::string name = py::str(item.first);
-    if (name == "repair") {
-      options.repair = dcg::parse_repair(py::str(item.second));
-    } else {
-      const double value = option_number(name, item.second);
-      dcg::set_numeric_option(options, name, value);
-    }
-  }
-  return options;
-}
-
-py::dict options_to_dict(const dcg::Options& options) {
-  py::dict out;
-  out["repair"] = dcg::repair_name(options.repair);
-  for (const auto& spec : dcg::numeric_option_specs()) {
-    const double value = dcg::get_numeric_option(options, spec.name);
-    if (spec.integer) {
-      out[spec.name.c_str()] = static_cast<long long>(value);
-    } else {
-      out[spec.name.c_str()] = value;
-    }
-  }
-  return out;
-}
-
-py::list option_specs() {
-  py::list out;
-  for (const auto& spec : dcg::numeric_option_specs()) {
-    py::dict d;
-    d["name"] = spec.name;
-    d["description"] = spec.description;
-    d["minimum"] = spec.minimum;
-    d["maximum"] = spec.maximum;
-    d["integer"] = spec.integer;
-    d["unit"] = spec.unit;
-    out.append(d);
-  }
-  return out;
-}
-
 py::dict balls_dict(const dcg::Balls& balls) {
   py::dict d;
   d["centers"] = balls.centers;
@@ -287,11 +244,6 @@ class PyExtractor {
 }  // namespace
 
 void bind_pipeline(py::module_& m) {
-  m.def("option_specs", &option_specs, "The numeric options: name, description, range, unit.");
-  m.def("default_options", [] { return options_to_dict(dcg::Options{}); },
-        "Every option with its default value.");
-  m.def("normalize_options", [](const py::dict& values) { return options_to_dict(options_from_dict(values)); },
-        "Checks options (ValueError when out of range) and returns the full set with defaults.");
   m.def(
       "validate_mesh",
       [](const dcg::Vertices& V, const Faces64& F) { dcg::validate_mesh(V, to_faces(F, V.rows())); },

@@ -1,5 +1,6 @@
 // Stage 9 (dcg/weights.h) for Python: skin_weights from the input mesh, or from a stage-0 result
-// the caller already has. The Python layer (bindings/dcg/weights.py) validates the arrays and
+// the caller already has. Options come as one dict of public names (dcg/options.h): the weights'
+// own and stage 0's; the skeleton's are accepted and unused. The Python layer (bindings/dcg/weights.py) validates the arrays and
 // turns bones given as a skeleton or a bone list into heads and tails.
 #include "common.h"
 
@@ -10,44 +11,6 @@
 
 namespace dcg_py {
 namespace {
-
-// Weights options and the stage-0 options from one dict: max_influences, heat, min_weight,
-// tie_tolerance, repair, target_faces, seed (missing keys keep their defaults).
-dcg::WeightsOptions weights_options(const py::dict& values) {
-  dcg::WeightsOptions o;
-  for (const auto& item : values) {
-    const std::string name = py::str(item.first);
-    if (name == "repair") {
-      o.prepare.repair = dcg::parse_repair(py::str(item.second));
-      continue;
-    }
-    const double value = option_number(name, item.second);
-    if (name == "max_influences") {
-      if (value != std::floor(value) || std::abs(value) > 1e9) {
-        throw dcg::InputError("max_influences must be a whole number");
-      }
-      o.max_influences = static_cast<int>(value);
-    } else if (name == "heat") {
-      o.heat = value;
-    } else if (name == "min_weight") {
-      o.min_weight = value;
-    } else if (name == "tie_tolerance") {
-      o.tie_tolerance = value;
-    } else if (name == "target_faces" || name == "seed") {
-      dcg::Options pipeline;  // the pipeline's table checks the range
-      dcg::set_numeric_option(pipeline, name, value);
-      if (name == "seed") {
-        o.prepare.seed = pipeline.seed;
-      } else {
-        o.prepare.target_faces = pipeline.target_faces;
-      }
-    } else {
-      throw dcg::InputError("unknown weights option " + name);
-    }
-  }
-  o.validate();
-  return o;
-}
 
 dcg::Bones make_bones(const dcg::Points& heads, const dcg::Points& tails) {
   dcg::Bones bones;
@@ -92,7 +55,7 @@ void bind_weights(py::module_& m) {
       [](const dcg::Vertices& V, const Faces64& F, const dcg::Points& heads,
          const dcg::Points& tails, const py::dict& options, py::object progress) {
         const dcg::Faces faces = to_faces(F, V.rows());
-        const dcg::WeightsOptions o = weights_options(options);
+        const dcg::Options o = options_from_dict(options);
         const dcg::Bones bones = make_bones(heads, tails);
         ProgressBridge bridge(std::move(progress));
         return weights_dict(run(bridge, [&](dcg::ProgressCallback cb) {
@@ -124,7 +87,7 @@ void bind_weights(py::module_& m) {
           prepared.map_face[i] = static_cast<int>(map_face[i]);
         }
         prepared.map_barycentric = map_barycentric;
-        const dcg::WeightsOptions o = weights_options(options);
+        const dcg::WeightsOptions o = options_from_dict(options).weights;
         const dcg::Bones bones = make_bones(heads, tails);
         ProgressBridge bridge(std::move(progress));
         return weights_dict(run(bridge, [&](dcg::ProgressCallback cb) {

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "dcg/options.h"
 #include "dcg/progress.h"
 #include "dcg/types.h"
 
@@ -33,6 +34,12 @@ auto to_int64(const Eigen::MatrixBase<Derived>& a) {
   return a.template cast<std::int64_t>().eval();
 }
 
+/// A dict of options (public names, dcg/options.h) -> dcg::Options, defaults for the rest;
+/// InputError (ValueError) for an unknown name or a value out of range.
+dcg::Options options_from_dict(const py::dict& values);
+/// Every option of `options` by its public name.
+py::dict options_to_dict(const dcg::Options& options);
+
 /// A numeric option's value; InputError (ValueError) "option NAME must be a number, got ..."
 /// for anything Python cannot turn into a float.
 double option_number(const std::string& name, const py::handle& value);
@@ -53,6 +60,8 @@ class ProgressBridge {
 };
 
 void bind_io(py::module_& m);
+void bind_options(py::module_& m);
+void bind_weights(py::module_& m);
 void bind_pipeline(py::module_& m);
 
 }  // namespace dcg_py

@@ -6,10 +6,6 @@
 
 #include "dcg/errors.h"
 
-namespace dcg_py {
-void bind_weights(py::module_& m);  // bind_weights.cpp
-}  // namespace dcg_py
-
 namespace {
 // Messages quote file names and file content, which need not be UTF-8: decode with
 // replacement characters (PyErr_SetString would fail and leave an empty ValueError).
@@ -38,6 +34,7 @@ PYBIND11_MODULE(_core, m) {
     }
   });
   dcg_py::bind_io(m);
+  dcg_py::bind_options(m);
   dcg_py::bind_pipeline(m);
   dcg_py::bind_weights(m);
 }

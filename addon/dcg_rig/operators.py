@@ -227,7 +227,8 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
     def finish(self, context, mesh_obj, extractor, values):
         skeleton = extractor.skeleton()
         result = rigging.apply_rig(context, mesh_obj, skeleton, values["weights"],
-                                   values["bone_detail"], extractor.prepare())
+                                   values["bone_detail"], extractor.prepare(),
+                                   self.engine_options(values))
         arm_obj = result.armature
         arm_obj["dcg_timings"] = {k: float(v) for k, v in skeleton.timings.items()}
         arm_obj["dcg_method"] = skeleton.method

@@ -46,6 +46,7 @@ class OptionSpec:
     maximum: object
     description: str
     choices: tuple = ()
+    stage: str = ""  # the engine stage that uses it: "weights" for the weights' own
 
 
 def label(name):
@@ -70,18 +71,19 @@ def option_specs(engine_options):
     specs = []
     for name, info in engine_options.items():
         default = info.default
+        stage = getattr(info, "stage", "")
         if isinstance(default, str):
             choices = tuple((c, label(c), c) for c in (info.choices or (default,)))
             specs.append(OptionSpec(name, "enum", default, None, None, info.description,
-                                    choices))
+                                    choices, stage))
         elif isinstance(default, bool):
             raise TypeError(f"engine option {name} is a bool, which the add-on does not know")
         elif isinstance(default, int):
             specs.append(OptionSpec(name, "int", default, info.minimum, info.maximum,
-                                    _tooltip(info)))
+                                    _tooltip(info), stage=stage))
         else:
             specs.append(OptionSpec(name, "float", float(default), info.minimum, info.maximum,
-                                    _tooltip(info)))
+                                    _tooltip(info), stage=stage))
     return specs
 
 

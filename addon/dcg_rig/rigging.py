@@ -77,7 +77,7 @@ def reusable_prepared(mesh_obj, prepared):
 
 
 def apply_rig(context, mesh_obj, skeleton, weight_method="DCG", bone_detail=0.5,
-              prepared=None):
+              prepared=None, engine_options=None):
     """Rig `mesh_obj` from `skeleton` (world coordinates); return a RigResult.
 
     Transactional: the mesh's earlier DCG rigs are detached (not deleted) while the new rig
@@ -97,7 +97,7 @@ def apply_rig(context, mesh_obj, skeleton, weight_method="DCG", bone_detail=0.5,
             armature.detach(mesh_obj, old)
         arm_obj = armature.build_armature(context, mesh_obj, plan)
         warnings = weights.apply_weights(context, mesh_obj, arm_obj, plan, weight_method,
-                                         reusable_prepared(mesh_obj, prepared))
+                                         reusable_prepared(mesh_obj, prepared), engine_options)
     except BaseException:
         if arm_obj is not None:
             armature.detach(mesh_obj, arm_obj)

@@ -100,7 +100,14 @@ class VIEW3D_PT_dcg_rig_advanced(bpy.types.Panel):
         settings = properties.settings(context)
         col = self.layout.column(align=True)
         for spec in properties.ENGINE_SPECS:
-            if spec.name not in MAIN_OPTIONS:
+            if spec.name not in MAIN_OPTIONS and spec.stage != "weights":
+                col.prop(settings, spec.name)
+        # The weights' own options: only the DCG weights method uses them.
+        col = self.layout.column(align=True)
+        col.label(text="DCG weights")
+        col.active = settings.weights == "DCG"
+        for spec in properties.ENGINE_SPECS:
+            if spec.stage == "weights":
                 col.prop(settings, spec.name)
 
 

@@ -26,16 +26,18 @@ from . import _engine, armature, mesh_io, skinning
 RETRY_SCALE = 100.0
 
 
-def apply_weights(context, mesh_obj, arm_obj, plan, method, prepared=None):
+def apply_weights(context, mesh_obj, arm_obj, plan, method, prepared=None,
+                  engine_options=None):
     """Bind `mesh_obj` to `arm_obj` with `method`; return a list of warnings for the user.
 
     `prepared`: the stage-0 result of the skeleton run when it was computed from exactly
     these vertices and triangles (see `rigging.reusable_prepared`); DCG weights then skip
-    their own stage 0."""
+    their own stage 0. `engine_options`: the engine's keyword arguments (dcg.OPTIONS names,
+    the skeleton's included); DCG weights use theirs (max_influences, heat, ...)."""
     warnings = []
     names = [spec.name for spec in plan]
     if method == "DCG":
-        warnings += _dcg_weights(mesh_obj, plan, prepared)
+        warnings += _dcg_weights(mesh_obj, plan, prepared, engine_options or {})
     elif method == "BLENDER":
         warnings += _bone_heat_checked(context, mesh_obj, arm_obj, plan)
     else:
@@ -55,7 +57,7 @@ def mesh_triangles(mesh):
     return F.reshape(-1, 3).astype(np.int64)
 
 
-def _dcg_weights(mesh_obj, plan, prepared=None):
+def _dcg_weights(mesh_obj, plan, prepared=None, engine_options=None):
     """The engine's bone heat weights written to the vertex groups; envelope weights (with a
     warning) when the engine cannot weight this mesh. Return the warnings."""
     names = [spec.name for spec in plan]
@@ -69,8 +71,8 @@ def _dcg_weights(mesh_obj, plan, prepared=None):
         warnings.append("this build of the engine has no weights: used envelope weights")
     else:
         try:
-            weights = skin_weights(V, F, plan, prepared=prepared,
-                                   max_influences=skinning.MAX_INFLUENCES)
+            options = {"max_influences": skinning.MAX_INFLUENCES, **(engine_options or {})}
+            weights = skin_weights(V, F, plan, prepared=prepared, **options)
         except ValueError as error:
             warnings.append(f"the engine could not weight {mesh_obj.name} ({error}): used "
                             "envelope weights")

@@ -33,7 +33,7 @@ from typing import Any, Callable, Dict, Optional, Tuple
 import numpy as np
 
 from . import _core
-from .options import OPTIONS, OptionInfo, normalize_options
+from .options import OPTIONS, SKELETON_OPTIONS, OptionInfo, normalize_options
 from .skeleton import FORMAT, Skeleton
 from .weights import SkinWeights, skin_weights
 
@@ -252,8 +252,6 @@ class Extractor:
                 tau = float(tau)
             except (TypeError, ValueError):
                 raise ValueError(f"tau must be a number, got {tau!r}") from None
-            if not 0.0 < tau <= 1.0:
-                raise ValueError(f"tau must be in (0, 1], got {tau}")
         return Prongs._from_core(self._core.prongs(tau))
 
     def end_points(self) -> Balls:
@@ -314,7 +312,9 @@ class Extractor:
 
     def skeleton(self) -> Skeleton:
         if self._skeleton is None:
-            self._skeleton = Skeleton._from_core(self._core.skeleton(), self.options)
+            # The options that made it (the weights' own do not change a skeleton).
+            made_with = {k: v for k, v in self.options.items() if k in SKELETON_OPTIONS}
+            self._skeleton = Skeleton._from_core(self._core.skeleton(), made_with)
         return self._skeleton
 
 

@@ -8,11 +8,12 @@ import sys
 from typing import List, Optional
 
 from . import OPTIONS, extract_skeleton, load_mesh
+from .options import SKELETON_OPTIONS
 
 
-def _add_option_flags(parser: argparse.ArgumentParser) -> None:
+def _add_option_flags(parser: argparse.ArgumentParser, names) -> None:
     group = parser.add_argument_group("engine options (defaults as in ALGORITHM.md)")
-    for info in OPTIONS.values():
+    for info in (OPTIONS[name] for name in names):
         flags = [f"--{info.name.replace('_', '-')}"]
         if "_" in info.name:
             flags.append(f"--{info.name}")
@@ -36,7 +37,7 @@ def build_parser() -> argparse.ArgumentParser:
     sk.add_argument("-o", "--output", required=True, help="JSON file to write (dcg-skeleton/1)")
     sk.add_argument("--indent", type=int, default=None, help="pretty-print the JSON")
     sk.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
-    _add_option_flags(sk)
+    _add_option_flags(sk, SKELETON_OPTIONS)
     batch = commands.add_parser(
         "batch", help="rig every mesh under a folder, on this machine or a Dask cluster",
         description="Writes OUT_DIR/<relative path>.json (skeleton), .weights.npz and with "
@@ -61,7 +62,7 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_argument("--blender-cli", help="the add-on's cli.py (default $DCG_BLENDER_CLI, "
                        "else found beside the dcg package)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    _add_option_flags(batch)
+    _add_option_flags(batch, OPTIONS)
     return parser
 
 
@@ -83,7 +84,8 @@ def run_batch(args: argparse.Namespace) -> int:
 
 
 def run_skeleton(args: argparse.Namespace) -> int:
-    options = {name: getattr(args, name) for name in OPTIONS if getattr(args, name) is not None}
+    options = {name: getattr(args, name) for name in SKELETON_OPTIONS
+               if getattr(args, name) is not None}
     V, F = load_mesh(args.input)
     skeleton = extract_skeleton(V, F, **options)
     with open(args.output, "w", encoding="utf-8") as out:

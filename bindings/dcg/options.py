@@ -1,6 +1,6 @@
 """The engine's options: names, defaults, ranges and descriptions, read from the C++ table.
 
-One table (cpp/src/pipeline.cpp) is behind the keyword arguments of `extract_skeleton`, the CLI
+One table (cpp/src/options.cpp) is behind the keyword arguments of `extract_skeleton`, the CLI
 flags and the Blender add-on's properties, so they cannot drift apart.
 """
 
@@ -11,7 +11,6 @@ from typing import Any, Dict, Optional, Tuple
 
 from . import _core
 
-REPAIR_CHOICES = ("auto", "none")
 
 
 @dataclass(frozen=True)
@@ -19,7 +18,8 @@ class OptionInfo:
     """One engine option.
 
     kind is "int", "float" or "choice"; minimum / maximum are None for choices; unit is "" or
-    "normalized length" (a fraction of the mesh's bounding-box diagonal).
+    "normalized length" (a fraction of the mesh's bounding-box diagonal); stage is the stage
+    that uses it ("prepare", "voronoi_balls", ..., "weights"; "all" for seed).
     """
 
     name: str
@@ -30,26 +30,28 @@ class OptionInfo:
     maximum: Optional[float] = None
     unit: str = ""
     choices: Tuple[str, ...] = ()
+    stage: str = ""
 
 
 def _build_table() -> Dict[str, OptionInfo]:
     defaults = _core.default_options()
-    table = {
-        "repair": OptionInfo(
-            "repair", defaults["repair"],
-            "What to do with input that is not one closed manifold: 'auto' wraps it into a "
-            "closed proxy (CGAL alpha wrapping), 'none' raises an error naming the problem",
-            "choice", choices=REPAIR_CHOICES),
-    }
+    table = {}
     for spec in _core.option_specs():
-        table[spec["name"]] = OptionInfo(
-            spec["name"], defaults[spec["name"]], spec["description"],
-            "int" if spec["integer"] else "float", spec["minimum"], spec["maximum"], spec["unit"])
+        name, kind = spec["name"], spec["kind"]
+        numeric = kind != "choice"
+        table[name] = OptionInfo(
+            name, defaults[name], spec["description"], kind,
+            spec["minimum"] if numeric else None, spec["maximum"] if numeric else None,
+            spec["unit"], tuple(spec["choices"]), spec["stage"])
     return table
 
 
-#: name -> OptionInfo, in pipeline order.
+#: name -> OptionInfo, in pipeline order (the skeleton's stages 0-8, then the weights').
 OPTIONS: Dict[str, OptionInfo] = _build_table()
+#: The options of the skeleton (stages 0-8) and of the weights (stage 9 and stage 0's).
+SKELETON_OPTIONS = tuple(n for n, info in OPTIONS.items() if info.stage != "weights")
+WEIGHTS_OPTIONS = tuple(n for n, info in OPTIONS.items()
+                        if info.stage in ("weights", "prepare", "all"))
 
 
 def normalize_options(options: Dict[str, Any]) -> Dict[str, Any]:
@@ -65,8 +67,8 @@ def normalize_options(options: Dict[str, Any]) -> Dict[str, Any]:
         if OPTIONS[name].kind == "choice":
             # Only strings: str(None) would silently read as the choice "none".
             if not isinstance(value, str):
-                raise ValueError(f"option {name} must be one of {', '.join(REPAIR_CHOICES)}, "
-                                 f"got {value!r}")
+                raise ValueError(f"option {name} must be one of "
+                                 f"{', '.join(OPTIONS[name].choices)}, got {value!r}")
             value = value.lower()
         elif isinstance(value, bool) or not isinstance(value, (int, float)):
             try:

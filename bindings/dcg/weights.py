@@ -29,18 +29,7 @@ from typing import Callable, Dict, Iterator, Optional, Tuple
 import numpy as np
 
 from . import _core
-
-#: The weights' own options, with their defaults (see cpp/include/dcg/weights.h).
-WEIGHT_OPTIONS: Dict[str, object] = {
-    "max_influences": 4,   # most bones per vertex (the strongest kept, then renormalized)
-    "heat": 1.0,           # c of H = c / d^2: larger binds more rigidly to the nearest bone
-    "min_weight": 0.05,    # weights below fade to 0 at half of it (as Blender's bone heat)
-    "tie_tolerance": 1e-4,  # bones this (relatively) close to the nearest one share its heat
-}
-#: Stage-0 options the weights use when they run stage 0 themselves; other pipeline options
-#: (the skeleton's) are accepted and ignored, so the same **options work for both calls.
-PREPARE_OPTIONS = ("repair", "target_faces", "seed")
-
+from .options import normalize_options
 
 @dataclass
 class SkinWeights:
@@ -143,29 +132,6 @@ def _bones(bones, tails) -> Tuple[np.ndarray, np.ndarray]:
     return heads, tails
 
 
-def _options(options) -> Dict[str, object]:
-    from .options import OPTIONS  # the pipeline's table: stage-0 option ranges
-
-    unknown = sorted(set(options) - set(WEIGHT_OPTIONS) - set(OPTIONS))
-    if unknown:
-        raise ValueError(f"unknown option(s) {', '.join(unknown)}; weights options: "
-                         f"{', '.join(WEIGHT_OPTIONS)}, stage 0: {', '.join(PREPARE_OPTIONS)}")
-    clean = {}
-    for name, value in options.items():
-        if name not in WEIGHT_OPTIONS and name not in PREPARE_OPTIONS:
-            continue
-        if name == "repair":
-            clean[name] = str(value).lower()
-            continue
-        if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise ValueError(f"option {name} must be a number, got {value!r}") from None
-        clean[name] = float(value)
-    return clean
-
-
 def skin_weights(V, F, bones, tails=None, *, prepared=None,
                  progress: Optional[Callable[[str, float], Optional[bool]]] = None,
                  **options) -> SkinWeights:
@@ -176,9 +142,11 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
     add-on's bone plan). Bones are in V's coordinates. Column b of the result is bone b.
 
     prepared: a dcg.PreparedMesh of this same (V, F) (Extractor.prepare()) to reuse instead of
-    running stage 0 again. options: max_influences (4), heat (1.0), min_weight (0.05),
-    tie_tolerance (1e-4), and the stage-0 options repair, target_faces, seed when `prepared` is
-    not given (other pipeline options are accepted and ignored). progress(stage, fraction) is
+    running stage 0 again. options: any of dcg.OPTIONS; the weights use max_influences (4),
+    heat (1.0), min_weight (0.05), tie_tolerance (1e-4) and, when `prepared` is not given, stage
+    0's (repair, target_faces, upsample, seed: the working mesh the skeleton gets with the same
+    options); the skeleton's other options are checked and unused, so the same **options work
+    for both calls. progress(stage, fraction) is
     called from the calling thread; return False to cancel (raises dcg.Cancelled). The GIL is
     released while the engine works.
 
@@ -189,7 +157,7 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
 
     V, F = as_mesh(V, F)
     heads, tails = _bones(bones, tails)
-    clean = _options(options)
+    clean = normalize_options(options)
     if prepared is None:
         d = _core.skin_weights(V, F, heads, tails, clean, progress)
     else:
@@ -197,8 +165,6 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
         if len(map_face) != len(V):
             raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
                              "pass the PreparedMesh of this mesh")
-        for name in PREPARE_OPTIONS:
-            clean.pop(name, None)
         d = _core.skin_weights_prepared(
             np.ascontiguousarray(prepared.vertices, dtype=np.float64),
             np.ascontiguousarray(prepared.faces, dtype=np.int64), float(prepared.scale),

@@ -176,7 +176,7 @@ Args parse_args(int argc, char** argv) {
       if (eq == std::string::npos) throw std::invalid_argument("--option wants NAME=VALUE");
       dcg::set_numeric_option(args.options, kv.substr(0, eq), std::stod(kv.substr(eq + 1)));
     } else if (a == "--repair") {
-      args.options.repair = dcg::parse_repair(value(i));
+      args.options.prepare.repair = dcg::parse_repair(value(i));
     } else if (!a.empty() && a[0] == '-' && a != "-") {
       throw std::invalid_argument("unknown flag " + a);
     } else {
@@ -594,11 +594,12 @@ int main(int argc, char** argv) {
       .integer("repeat", args.repeat)
       .boolean("mcf", args.mcf)
       .integer("mcf_max_faces", args.mcf_max_faces)
-      .str("repair", dcg::repair_name(args.options.repair))
+      .str("repair", dcg::repair_name(args.options.prepare.repair))
       .boolean("stability", args.stability)
       .integer("stability_seed", args.stability_seed);
   JsonObject options;
-  for (const auto& spec : dcg::numeric_option_specs()) {
+  for (const auto& spec : dcg::option_specs()) {
+    if (spec.kind == dcg::OptionSpec::Kind::Choice) continue;  // repair: above
     options.num(spec.name, dcg::get_numeric_option(args.options, spec.name));
   }
   meta.raw("options", options.dump());

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "dcg/errors.h"
+#include "dcg/options.h"
 #include "dcg/force_field.h"
 #include "dcg/surface_query.h"
 
@@ -116,8 +117,9 @@ Eigen::VectorXi merge_greedily(const Points& points, const Eigen::VectorXd& magn
 
 ConnectionPoints compute_connection_points(const Points& domain_points, const ForceField& field,
                                            const ConnectionPointsOptions& options) {
-  if (!(options.shrink_step > 0) || options.max_steps < 0 || options.max_halvings < 1) {
-    throw InputError("connection points: shrink_step must be positive");
+  check_option("shrink_step", options.shrink_step);
+  if (options.max_steps < 0 || options.max_halvings < 1) {
+    throw InputError("connection points: max_steps must be >= 0 and max_halvings >= 1");
   }
   const int count = static_cast<int>(domain_points.rows());
   ConnectionPoints out;

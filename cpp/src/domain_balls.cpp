@@ -17,16 +17,13 @@
 #include <vector>
 
 #include "dcg/errors.h"
+#include "dcg/options.h"
 
 namespace dcg {
 
 DomainBalls compute_domain_balls(const Balls& candidates, const DomainBallsOptions& options) {
-  if (!(options.min_gap >= 0) || !std::isfinite(options.min_gap)) {
-    throw InputError("min_gap must be finite and >= 0");
-  }
-  if (!(options.min_radius >= 0) || !std::isfinite(options.min_radius)) {
-    throw InputError("min_radius must be finite and >= 0");
-  }
+  check_option("min_gap", options.min_gap);
+  check_option("min_radius", options.min_radius);
   const Eigen::Index n = candidates.centers.rows();
   if (candidates.radii.size() != n) {
     throw InputError("domain balls: " + std::to_string(n) + " centers but " +

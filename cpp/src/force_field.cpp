@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "dcg/errors.h"
+#include "dcg/options.h"
 #include "dcg/surface_query.h"
 
 namespace dcg {
@@ -27,12 +28,8 @@ Points fibonacci_sphere(int count) {
 ForceField::ForceField(std::shared_ptr<const SurfaceQuery> query, const ForceFieldOptions& options)
     : query_(std::move(query)), options_(options) {
   if (!query_) throw InputError("ForceField: no surface query");
-  if (options_.rays < 6) {
-    throw InputError("ForceField: rays must be at least 6, got " + std::to_string(options_.rays));
-  }
-  if (!(options_.force_exponent > 0) || !std::isfinite(options_.force_exponent)) {
-    throw InputError("ForceField: force_exponent must be positive");
-  }
+  check_option("rays", options_.rays);
+  check_option("force_exponent", options_.force_exponent);
   directions_ = fibonacci_sphere(options_.rays).cast<float>();
 }
 

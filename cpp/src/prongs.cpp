@@ -32,6 +32,7 @@
 #include <tbb/parallel_for.h>
 
 #include "dcg/errors.h"
+#include "dcg/options.h"
 #include "dcg/surface_query.h"
 
 namespace dcg {
@@ -258,7 +259,7 @@ Eigen::VectorXd exact_scale_function(const Mesh& mesh, bool area_weighted) {
 
 ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOptions& options) {
   check_mesh(mesh);
-  if (options.geodesic_sources < 0) throw InputError("geodesic_sources must be >= 0");
+  check_option("geodesic_sources", options.geodesic_sources);
   const EdgeGraph g = build_graph(mesh);
   const int n = g.n;
   const std::vector<double> area = vertex_areas(mesh);
@@ -450,7 +451,7 @@ bool ProngHierarchy::cap_is_disk(int peak_vertex, double tau) const {
 }
 
 Prongs ProngHierarchy::prongs(double tau) const {
-  if (!(tau > 0 && tau <= 1)) throw InputError("tau must be in (0, 1], got " + std::to_string(tau));
+  check_option("tau", tau);
   std::vector<const Peak*> kept;
   for (const Peak& p : peaks_) {
     if (!(p.ratio < tau)) break;  // sorted by ratio
@@ -472,52 +473,11 @@ Prongs ProngHierarchy::prongs(double tau) const {
 }
 
 ProngFeatures compute_prongs(const Mesh& mesh, const ProngOptions& options) {
-  if (!(options.tau > 0 && options.tau <= 1)) {
-    throw InputError("tau must be in (0, 1], got " + std::to_string(options.tau));
-  }
+  check_option("tau", options.tau);
   ProngFeatures out;
-  ScaleFunctionOptions so;
-  so.geodesic_sources = options.geodesic_sources;
-  so.seed = options.seed;
-  out.scale = compute_scale_function(mesh, so);
+  out.scale = compute_scale_function(mesh, options);
   out.hierarchy = ProngHierarchy(mesh, out.scale.values);
   out.prongs = out.hierarchy.prongs(options.tau);
-  return out;
-}
-
-EndPoints find_end_points(const Prongs& prongs, const Balls& balls, const SurfaceQuery& query,
-                          double min_radius) {
-  const Eigen::Index P = prongs.vertices.size(), B = balls.radii.size();
-  if (balls.centers.rows() != B) throw InputError("end points: centers and radii differ in size");
-  EndPoints out;
-  out.ball = Eigen::VectorXi::Constant(P, -1);
-  out.centers = prongs.positions;
-  out.radii = Eigen::VectorXd::Zero(P);
-  std::vector<char> taken(B, 0);
-  std::vector<std::pair<double, int>> order;
-  order.reserve(B);
-  for (Eigen::Index p = 0; p < P; ++p) {
-    const Eigen::Vector3d peak = prongs.positions.row(p).transpose();
-    order.clear();
-    for (Eigen::Index b = 0; b < B; ++b) {
-      if (taken[b] || !(balls.radii[b] >= min_radius)) continue;
-      order.emplace_back((balls.centers.row(b).transpose() - peak).squaredNorm(), static_cast<int>(b));
-    }
-    std::sort(order.begin(), order.end());
-    for (const auto& [d2, b] : order) {
-      // Sees the peak: the first surface hit from the center toward the peak is the peak itself
-      // (up to a tolerance for the peak's own triangles and float rounding).
-      const Eigen::Vector3d c = balls.centers.row(b).transpose();
-      const double length = std::sqrt(d2);
-      const double hit = query.ray_hit(c, peak - c);
-      if (!(hit >= length - std::max(1e-6, 1e-3 * length))) continue;
-      out.ball[p] = b;
-      out.centers.row(p) = c.transpose();
-      out.radii[p] = balls.radii[b];
-      taken[b] = 1;
-      break;
-    }
-  }
   return out;
 }
 

@@ -10,9 +10,12 @@
 #include <queue>
 
 #include <Eigen/Dense>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "chords.h"
 #include "dcg/errors.h"
+#include "dcg/options.h"
 #include "dcg/force_field.h"
 #include "dcg/surface_query.h"
 
@@ -317,8 +320,9 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
 Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Edges& links,
                      const ForceField& field, const Points& waypoints, const RemapOptions& options,
                      const std::function<Points()>& more_waypoints) {
-  if (options.snake_iterations < 0 || options.min_inner_points < 1 || options.spacing <= 0) {
-    throw InputError("remap: bad options (snake_iterations >= 0, min_inner_points >= 1)");
+  check_option("snake_iterations", options.snake_iterations);
+  if (options.min_inner_points < 1 || !(options.spacing > 0)) {
+    throw InputError("remap: min_inner_points must be >= 1 and spacing > 0");
   }
   const int K = static_cast<int>(links.rows());
   Remapped out;
@@ -353,6 +357,30 @@ Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Ed
     out.unrouted += results[l].unrouted ? 1 : 0;
   }
   return out;
+}
+
+Points chord_midpoints(const Mesh& mesh, const SurfaceQuery& surface) {
+  const Eigen::Index nf = mesh.F.rows();
+  Points mid(nf, 3);
+  std::vector<char> ok(static_cast<std::size_t>(nf), 0);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nf, 512),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
+      const Eigen::Vector3d& n = surface.face_normal(static_cast<int>(f));
+      if (n.isZero()) continue;
+      const Eigen::Vector3d c =
+          (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3.0;
+      if (const auto m = internal::chord_middle(surface, c - 1e-7 * n, -n)) {
+        mid.row(f) = m->transpose();
+        ok[static_cast<std::size_t>(f)] = 1;
+      }
+    }
+  });
+  Eigen::Index k = 0;
+  for (Eigen::Index f = 0; f < nf; ++f)
+    if (ok[static_cast<std::size_t>(f)]) mid.row(k++) = mid.row(f);
+  mid.conservativeResize(k, 3);
+  return mid;
 }
 
 }  // namespace dcg

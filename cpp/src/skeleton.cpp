@@ -3,6 +3,7 @@
 
 #include "dcg/domain_graph.h"
 #include "dcg/errors.h"
+#include "dcg/prepare.h"
 #include "dcg/remap.h"
 
 namespace dcg {
@@ -60,6 +61,36 @@ Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
   choose_root(s);
   s.face_labels = graph.face_nodes;
   return s;
+}
+
+void skeleton_to_input(Skeleton& s, const PreparedMesh& pm, const Faces& F_in,
+                       Eigen::Index input_vertices) {
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    s.positions.row(i) = pm.to_input(s.positions.row(i));
+  }
+  for (auto& polyline : s.polylines) {
+    for (Eigen::Index i = 0; i < polyline.rows(); ++i) polyline.row(i) = pm.to_input(polyline.row(i));
+  }
+  s.radii *= pm.scale;
+  const Eigen::VectorXi working_labels = s.face_labels;
+  s.face_labels = Eigen::VectorXi::Constant(F_in.rows(), -1);
+  if (working_labels.size() == pm.working.F.rows() && pm.map_face.size() == input_vertices) {
+    for (Eigen::Index f = 0; f < F_in.rows(); ++f) {
+      int label[3];
+      for (int k = 0; k < 3; ++k) {
+        const int wf = pm.map_face[F_in(f, k)];
+        label[k] = wf >= 0 && wf < working_labels.size() ? working_labels[wf] : -1;
+      }
+      int best = label[0];
+      if (label[1] == label[2] && label[1] >= 0) best = label[1];
+      if (best < 0) best = label[1] >= 0 ? label[1] : label[2];
+      s.face_labels[f] = best;
+    }
+  }
+  s.input_vertices = static_cast<int>(input_vertices);
+  s.input_faces = static_cast<int>(F_in.rows());
+  s.genus = pm.genus;
+  s.repaired = pm.repaired;
 }
 
 }  // namespace dcg

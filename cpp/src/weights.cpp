@@ -27,6 +27,7 @@
 #include <tbb/task_arena.h>
 
 #include "dcg/errors.h"
+#include "dcg/options.h"
 
 namespace dcg {
 namespace {
@@ -90,18 +91,10 @@ double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a
 }
 
 void WeightsOptions::validate() const {
-  if (max_influences < 1 || max_influences > 64) {
-    throw InputError("max_influences must be in [1, 64], got " + std::to_string(max_influences));
-  }
-  if (!std::isfinite(heat) || heat <= 0 || heat > 1e6) {
-    throw InputError("heat must be in (0, 1e6], got " + std::to_string(heat));
-  }
-  if (!std::isfinite(min_weight) || min_weight < 0 || min_weight >= 1) {
-    throw InputError("min_weight must be in [0, 1), got " + std::to_string(min_weight));
-  }
-  if (!std::isfinite(tie_tolerance) || tie_tolerance < 0 || tie_tolerance > 1) {
-    throw InputError("tie_tolerance must be in [0, 1], got " + std::to_string(tie_tolerance));
-  }
+  check_option("max_influences", max_influences);
+  check_option("heat", heat);
+  check_option("min_weight", min_weight);
+  check_option("tie_tolerance", tie_tolerance);
 }
 
 Eigen::MatrixXd SkinWeights::dense() const {
@@ -527,15 +520,15 @@ SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bone
 }
 
 SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
-                                 const WeightsOptions& options, ProgressCallback callback) {
+                                 const Options& options, ProgressCallback callback) {
   options.validate();
   check_bones(bones);
   const auto start = Clock::now();
   const Progress progress(std::move(callback));
   progress.report("prepare", 0.0);
-  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare, progress, 0.0, 0.5);
+  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare_options(), progress, 0.0, 0.5);
   const double prepare_seconds = seconds_since(start);
-  SkinWeights out = skin_weights(prepared, bones, options, progress, 0.5, 1.0);
+  SkinWeights out = skin_weights(prepared, bones, options.weights, progress, 0.5, 1.0);
   out.timings.insert(out.timings.begin(), {"prepare", prepare_seconds});
   out.timings.back().second += prepare_seconds;
   return out;

@@ -72,8 +72,8 @@ void check_deterministic(const dcg::Mesh& mesh, const dcg::Options& options, boo
 
 dcg::Options fast_options() {
   dcg::Options options;
-  options.target_faces = 5000;
-  options.samples = 1200;
+  options.prepare.target_faces = 5000;
+  options.voronoi.samples = 1200;
   return options;
 }
 
@@ -94,7 +94,7 @@ TEST(Determinism, RepairedOpenMeshIsBitIdentical) {
   const dcg::Mesh open = dcg::test::cut_above(
       dcg::test::with_noise(dcg::test::capsule(0.5, 2.0, 8, 24, 8), 0.002, rng), 1.0);
   dcg::Options options = fast_options();
-  options.target_faces = 3000;
+  options.prepare.target_faces = 3000;
   check_deterministic(open, options, /*twice=*/false);  // the wrap is slow under the sanitizers
 }
 

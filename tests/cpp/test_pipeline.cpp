@@ -28,9 +28,10 @@ TEST(Options, DefaultsAreValidAndMatchTheDesign) {
   EXPECT_DOUBLE_EQ(dcg::get_numeric_option(options, "samples"), 4000);
   EXPECT_DOUBLE_EQ(dcg::get_numeric_option(options, "min_gap"), 0.005);
   std::set<std::string> names;
-  for (const auto& spec : dcg::numeric_option_specs()) {
+  for (const auto& spec : dcg::option_specs()) {
     EXPECT_TRUE(names.insert(spec.name).second) << "duplicate option " << spec.name;
     EXPECT_FALSE(spec.description.empty()) << spec.name;
+    if (spec.kind == dcg::OptionSpec::Kind::Choice) continue;
     EXPECT_LE(spec.minimum, dcg::get_numeric_option(options, spec.name)) << spec.name;
     EXPECT_GE(spec.maximum, dcg::get_numeric_option(options, spec.name)) << spec.name;
   }
@@ -44,16 +45,16 @@ TEST(Options, OutOfRangeUnknownAndFractionalValuesAreRejected) {
   EXPECT_THROW(dcg::set_numeric_option(options, "no_such_option", 1), dcg::InputError);
   EXPECT_THROW(dcg::parse_repair("sometimes"), dcg::InputError);
   dcg::set_numeric_option(options, "samples", 500);
-  EXPECT_EQ(options.samples, 500);
-  options.rays = 1;  // set behind the table's back
+  EXPECT_EQ(options.voronoi.samples, 500);
+  options.field.rays = 1;  // set behind the table's back
   EXPECT_THROW(options.validate(), dcg::InputError);
 }
 
 TEST(Pipeline, SpotGivesAConnectedTreeInsideTheShape) {
   const dcg::Mesh mesh = dcg::read_mesh(repo_file("data/spot.obj"));
   dcg::Options options;
-  options.target_faces = 6000;
-  options.samples = 1500;
+  options.prepare.target_faces = 6000;
+  options.voronoi.samples = 1500;
   std::vector<std::string> stages;
   dcg::Extractor extractor(mesh.V, mesh.F, options, [&](const std::string& stage, double) {
     stages.push_back(stage);
@@ -257,7 +258,7 @@ TEST(Pipeline, PublicOpenScanCancelStopsWithinHalfASecondAndResumesWhole) {
 TEST(Pipeline, SameInputSameSkeleton) {
   const dcg::Mesh mesh = dcg::read_mesh(repo_file("data/meshes/torus.off"));
   dcg::Options options;
-  options.samples = 800;
+  options.voronoi.samples = 800;
   const dcg::Skeleton a = dcg::extract_skeleton(mesh.V, mesh.F, options);
   const dcg::Skeleton b = dcg::extract_skeleton(mesh.V, mesh.F, options);
   EXPECT_EQ(a.positions, b.positions);

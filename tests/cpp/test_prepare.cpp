@@ -152,6 +152,7 @@ TEST(Prepare, GenusOfSphereTorusAndTwoTori) {
   EXPECT_EQ(dcg::prepare_mesh(torus.V, torus.F, keep_input()).genus, 1);
   dcg::PrepareOptions remesh;
   remesh.target_faces = 12000;  // 4096 faces: too far from the target to be kept
+  remesh.upsample = true;
   const dcg::PreparedMesh pm = dcg::prepare_mesh(torus.V, torus.F, remesh);
   EXPECT_TRUE(pm.remeshed);
   EXPECT_EQ(pm.genus, 1);
@@ -185,6 +186,7 @@ TEST(Prepare, RemeshingReachesAboutTheTargetAndMapsNearby) {
   const Mesh m = test::capsule(0.5, 2.0, 8, 24, 6);  // few, long triangles
   dcg::PrepareOptions o;
   o.target_faces = 5000;
+  o.upsample = true;
   const dcg::PreparedMesh pm = dcg::prepare_mesh(m.V, m.F, o);
   EXPECT_TRUE(pm.remeshed);
   EXPECT_GT(pm.working.F.rows(), 2500);
@@ -348,7 +350,9 @@ TEST_P(OpenMeshFile, RepairAutoClosesItAndRepairNoneNamesTheProblem) {
     EXPECT_TRUE(contains(message, "128 border edges")) << message;
     EXPECT_TRUE(contains(message, "3 components")) << message;
   }
-  const dcg::PreparedMesh pm = dcg::prepare_mesh(m.V, m.F, {});
+  dcg::PrepareOptions up;  // the proxy remeshed up to target_faces
+  up.upsample = true;
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(m.V, m.F, up);
   EXPECT_TRUE(pm.repaired);
   EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
   EXPECT_GT(pm.working.F.rows(), 10000);

@@ -19,6 +19,7 @@
 #include "dcg/errors.h"
 #include "dcg/io.h"
 #include "dcg/prepare.h"
+#include "dcg/end_points.h"
 #include "dcg/prongs.h"
 #include "dcg/surface_query.h"
 #include "dcg/voronoi_balls.h"

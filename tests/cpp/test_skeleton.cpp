@@ -29,8 +29,8 @@ namespace test = dcg::test;
 // Smaller working meshes than the defaults: the synthetic shapes are smooth.
 dcg::Options fast_options() {
   dcg::Options o;
-  o.target_faces = 5000;
-  o.samples = 1500;
+  o.prepare.target_faces = 5000;
+  o.voronoi.samples = 1500;
   return o;
 }
 

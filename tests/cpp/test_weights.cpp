@@ -16,6 +16,7 @@
 #include "dcg/errors.h"
 #include "dcg/io.h"
 #include "dcg/prepare.h"
+#include "dcg/options.h"
 #include "dcg/weights.h"
 #include "shapes.h"
 
@@ -79,8 +80,8 @@ Bones bones_from(std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> list) 
 // A two-bone chain along the capsule's axis, jointed at z = 0.
 Bones chain() { return bones_from({{{0, 0, -1.2}, {0, 0, 0}}, {{0, 0, 0}, {0, 0, 1.2}}}); }
 
-dcg::WeightsOptions keep_input() {
-  dcg::WeightsOptions o;
+dcg::Options keep_input() {
+  dcg::Options o;
   o.prepare.target_faces = 0;
   return o;
 }
@@ -277,10 +278,10 @@ TEST(WeightsHeat, MaxInfluencesPrunesAndRenormalizes) {
                            {{0, 0, -0.6}, {0, 0, 0}},
                            {{0, 0, 0}, {0, 0, 0.6}},
                            {{0, 0, 0.6}, {0, 0, 1.2}}});
-  dcg::WeightsOptions o = keep_input();
-  o.min_weight = 0;
+  dcg::Options o = keep_input();
+  o.weights.min_weight = 0;
   for (int max : {1, 2, 4}) {
-    o.max_influences = max;
+    o.weights.max_influences = max;
     const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, four, o);
     expect_valid(w, static_cast<int>(m.V.rows()), 4, max);
     if (max == 1) { EXPECT_EQ(w.rows.size(), m.V.rows()); }
@@ -307,8 +308,9 @@ TEST(WeightsHeat, SameWeightsAtEveryScale) {
 TEST(WeightsHeat, RemeshedWorkingMeshTransfersToTheInput) {
   std::vector<int> ring;
   const Mesh m = capsule(0.5, 2.0, &ring, 6, 16, 8);  // coarse input, remeshed finer
-  dcg::WeightsOptions o;
+  dcg::Options o;
   o.prepare.target_faces = 4000;
+  o.prepare.upsample = true;
   const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, chain(), o);
   expect_valid(w, static_cast<int>(m.V.rows()), 2);
   EXPECT_GT(w.working_vertices, m.V.rows());
@@ -332,7 +334,7 @@ TEST(WeightsHeat, OpenAndMultiPartInputIsWeightedEverywhere) {
   open.F.resize(static_cast<Eigen::Index>(kept.size()), 3);
   for (std::size_t f = 0; f < kept.size(); ++f) open.F.row(f) << kept[f][0], kept[f][1], kept[f][2];
   const Mesh m = merged(open, sphere(Eigen::RowVector3d(0, 0, -0.5), 0.2, 6, 8));
-  dcg::WeightsOptions o;
+  dcg::Options o;
   o.prepare.target_faces = 4000;
   const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, chain(), o);
   expect_valid(w, static_cast<int>(m.V.rows()), 2);
@@ -352,12 +354,12 @@ TEST(WeightsErrors, BadBonesAndOptionsAreInputErrors) {
   Bones nan = chain();
   nan.heads(1, 2) = std::nan("");
   EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, nan, keep_input()), dcg::InputError);
-  for (auto change : std::vector<std::function<void(dcg::WeightsOptions&)>>{
-           [](dcg::WeightsOptions& o) { o.max_influences = 0; },
-           [](dcg::WeightsOptions& o) { o.heat = 0; },
-           [](dcg::WeightsOptions& o) { o.min_weight = 1; },
-           [](dcg::WeightsOptions& o) { o.tie_tolerance = -1; }}) {
-    dcg::WeightsOptions o = keep_input();
+  for (auto change : std::vector<std::function<void(dcg::Options&)>>{
+           [](dcg::Options& o) { o.weights.max_influences = 0; },
+           [](dcg::Options& o) { o.weights.heat = 0; },
+           [](dcg::Options& o) { o.weights.min_weight = 1; },
+           [](dcg::Options& o) { o.weights.tie_tolerance = -1; }}) {
+    dcg::Options o = keep_input();
     change(o);
     EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, chain(), o), dcg::InputError);
   }
@@ -396,7 +398,7 @@ TEST(WeightsPublic, HandIsWeightedEverywhere) {
                                   {c, c + Eigen::Vector3d(0, e.y(), 0)},
                                   {c, c - Eigen::Vector3d(0, e.y(), 0)},
                                   {c, c + Eigen::Vector3d(0, 0, e.z())}});
-  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, bones);
+  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, bones, dcg::Options{});
   expect_valid(w, static_cast<int>(m.V.rows()), 5);
 }
 

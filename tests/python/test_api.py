@@ -34,8 +34,25 @@ def test_options_table_has_the_design_defaults():
     assert o["repair"].default == "auto" and o["repair"].choices == ("auto", "none")
     for info in o.values():
         assert info.description, info.name
+        assert info.stage, info.name
         if info.kind != "choice":
             assert info.minimum <= info.default <= info.maximum, info.name
+    # The weights' options are in the same table, their defaults the engine's.
+    assert o["max_influences"].default == 4 and o["max_influences"].stage == "weights"
+    assert o["heat"].default == pytest.approx(1.0)
+    assert o["upsample"].default == 0 and o["upsample"].stage == "prepare"
+
+
+def test_the_skeleton_cli_offers_the_skeleton_options_and_batch_all():
+    from dcg import cli
+    from dcg.options import SKELETON_OPTIONS
+
+    parser = cli.build_parser()
+    skeleton = parser.parse_args(["skeleton", "in.obj", "-o", "out.json", "--tau", "0.7"])
+    assert skeleton.tau == pytest.approx(0.7)
+    assert "max_influences" not in vars(skeleton) and "tau" in SKELETON_OPTIONS
+    batch = parser.parse_args(["batch", "in", "out", "--max-influences", "3"])
+    assert batch.max_influences == 3
 
 
 @pytest.mark.parametrize("bad", [{"tau": 2.0}, {"samples": -5}, {"samples": 10.5},

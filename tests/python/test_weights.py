@@ -103,8 +103,9 @@ def test_capsule_chain_is_monotonic_across_the_joint():
     assert upper[0] < 0.01 and upper[-1] > 0.99
     assert np.all(upper[levels < -0.05] < 0.5) and np.all(upper[levels > 0.05] > 0.5)
     assert abs(upper[levels == 0][0] - 0.5) < 0.05
-    # remeshed (the default working mesh): the same picture at the input vertices
-    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=8000)
+    # remeshed (upsample: the small input remeshed up to target_faces): the same picture at the
+    # input vertices
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=8000, upsample=1)
     check_weights(w, len(V), 2)
     assert w.working_vertices > len(V)
     W = w.dense()
@@ -159,6 +160,18 @@ def test_prepared_mesh_is_reused():
     with pytest.raises(ValueError, match="prepared maps"):
         skin_weights(V[:-1], F[F.max(axis=1) < len(V) - 1], CHAIN_HEADS, CHAIN_TAILS,
                      prepared=prepared)
+
+
+def test_weights_prepare_the_working_mesh_the_skeleton_gets():
+    # A small closed input is kept as it is by stage 0 for the skeleton (upsample off); the
+    # weights run stage 0 with the same options and must solve on that same mesh.
+    V, F = capsule()
+    kept = dcg.Extractor(V, F).prepare()
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS)
+    assert w.working_vertices == len(kept.vertices)
+    up = dcg.Extractor(V, F, upsample=1, target_faces=8000).prepare()
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, upsample=1, target_faces=8000)
+    assert w.working_vertices == len(up.vertices) > len(kept.vertices)
 
 
 def test_skeleton_options_are_accepted_and_ignored():

@@ -10,7 +10,9 @@
 #include "dcg/connection_points.h"
 #include "dcg/domain_balls.h"
 #include "dcg/domain_graph.h"
+#include "dcg/end_points.h"
 #include "dcg/force_field.h"
+#include "dcg/options.h"
 #include "dcg/prepare.h"
 #include "dcg/progress.h"
 #include "dcg/prongs.h"
@@ -22,57 +24,6 @@
 namespace dcg {
 
 class SurfaceQuery;
-
-/// Every option of the pipeline with ALGORITHM.md's defaults. Lengths are in normalized units
-/// (the input's bounding-box diagonal is 1). The Python names are the field names.
-struct Options {
-  // Stage 0
-  Repair repair = Repair::Auto;  ///< "auto": wrap open / non-manifold input; "none": raise
-  int target_faces = 20000;      ///< working-mesh size after uniform remeshing (0: no remesh)
-  int upsample = 0;              ///< 1: remesh small inputs up to target_faces (slower; see
-                                 ///<    PrepareOptions::upsample); 0: keep them as they are
-  // Stage 1
-  int samples = 4000;            ///< surface samples for the Voronoi balls (at most; a small
-                                 ///<    working mesh gets max(500, faces / 2), see voronoi_balls)
-  // Stage 2
-  double min_gap = 0.005;        ///< gap between domain balls
-  double min_radius = 0.002;     ///< smallest domain ball
-  // Stage 3
-  double tau = 0.85;             ///< prong smoothness ratio (paper section 6)
-  int geodesic_sources = 128;    ///< sources of the sampled scale function
-  // Stages 4-5
-  int rays = 64;                 ///< rays per point of the repulsive force field
-  double force_exponent = 1.0;   ///< n in F(p) = -(1/K) sum u_k / r_k^n
-  double shrink_step = 0.5;      ///< alpha of the shrinking step
-  // Stage 7
-  int snake_iterations = 100;    ///< re-mapping iterations per link
-  // All stages
-  unsigned seed = 0;             ///< seed of every randomized step (runs are deterministic)
-
-  /// Throws InputError naming the first option out of range.
-  void validate() const;
-};
-
-/// A numeric option's name (the Options field), meaning and valid range: the one table behind
-/// Options::validate(), the Python keyword arguments, the CLI flags and the add-on's properties.
-struct OptionSpec {
-  std::string name;
-  std::string description;
-  double minimum;
-  double maximum;
-  bool integer;      ///< int-valued (target_faces, samples, ...)
-  std::string unit;  ///< "" or "normalized length" (fraction of the bounding-box diagonal)
-};
-
-/// Every numeric option, in pipeline order. `repair` (a choice) is not in this list.
-const std::vector<OptionSpec>& numeric_option_specs();
-/// Reads / writes a numeric option by name; InputError for an unknown name (set also checks
-/// the range and, for integer options, that the value is whole).
-double get_numeric_option(const Options& options, const std::string& name);
-void set_numeric_option(Options& options, const std::string& name, double value);
-/// "auto" / "none" <-> Repair; InputError for any other string.
-Repair parse_repair(const std::string& text);
-const char* repair_name(Repair repair);
 
 /// Runs the stages one at a time, keeping each result. A stage runs the ones it needs first;
 /// asking twice returns the kept result. Not thread-safe (use one extractor per thread).

@@ -28,12 +28,11 @@ struct PrepareOptions {
   /// inputs of at most 2.5 x target_faces faces are kept as they are when they have at least
   /// kMinKeptFaces faces with a variation below kMaxKeptVariation, so that small inputs cost
   /// little (else remeshed; one under target_faces / 2.5 only to kSmallRemeshFaces).
-  /// The Extractor passes Options::upsample.
-  bool upsample = true;
+  bool upsample = false;
   /// Vertices closer than this (normalized units) are welded.
   double weld_tolerance = 1e-7;
   /// Seed for every randomized step of the stage.
-  unsigned seed = 0;
+  unsigned seed = kDefaultSeed;
 };
 
 /// An input with fewer than target_faces / kNearTarget faces is small (see upsample), one with

@@ -35,7 +35,7 @@ struct ScaleFunctionOptions {
   /// weighted by its own area (the exact O(n^2) sum).
   int geodesic_sources = 128;
   /// Picks the first source (then farthest-point sampling is deterministic).
-  unsigned seed = 0;
+  unsigned seed = kDefaultSeed;
 };
 
 struct ScaleFunction {
@@ -97,10 +97,9 @@ class ProngHierarchy {
   int global_ = -1;  // index of the global peak in peaks_
 };
 
-struct ProngOptions {
-  double tau = 0.85;          ///< smoothness ratio: a peak is a prong when valley / peak < tau
-  int geodesic_sources = 128; ///< sources of the sampled scale function (0: exact)
-  unsigned seed = 0;          ///< seed of the source sampling
+/// The scale function's options (geodesic_sources, seed) and the prong threshold.
+struct ProngOptions : ScaleFunctionOptions {
+  double tau = 0.85;  ///< smoothness ratio: a peak is a prong when valley / peak < tau
 };
 
 /// Everything stage 3 computes.
@@ -112,20 +111,5 @@ struct ProngFeatures {
 
 /// Stage 3 on a closed working mesh (normalized units). Throws InputError for bad options.
 ProngFeatures compute_prongs(const Mesh& mesh, const ProngOptions& options = {});
-
-/// Each prong's end point (ALGORITHM.md stage 3): the Voronoi ball of stage 1 nearest to the
-/// prong's peak (center distance), among those with radius >= min_radius and that see the peak
-/// (the segment from the center to the peak meets the surface only at the peak's end), strongest
-/// prongs first; two prongs never share a ball.
-struct EndPoints {
-  Eigen::VectorXi ball;   ///< #P index into the stage-1 balls; -1 when no ball sees the peak
-  Points centers;         ///< #P by 3 end points (ball centers; the peak itself when ball is -1)
-  Eigen::VectorXd radii;  ///< #P ball radii (0 when ball is -1)
-};
-
-/// prongs: from compute_prongs on the mesh of `query`; balls: stage 1 on the same mesh;
-/// min_radius: ALGORITHM.md uses half the domain balls' min_radius.
-EndPoints find_end_points(const Prongs& prongs, const Balls& balls, const SurfaceQuery& query,
-                          double min_radius);
 
 }  // namespace dcg

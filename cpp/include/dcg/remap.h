@@ -27,6 +27,7 @@
 namespace dcg {
 
 class ForceField;
+class SurfaceQuery;
 
 struct RemapOptions {
   int snake_iterations = 100;   ///< steps per link at most (ALGORITHM.md: 100)
@@ -53,11 +54,17 @@ struct Remapped {
 /// #K by 2 node pairs; waypoints: #W by 3 points inside the shape (for links that leave it).
 /// more_waypoints (optional): called once when some link found no route through `waypoints`;
 /// those links try again through both (denser points, costlier to make: see pipeline.cpp's
-/// chord_midpoints).
+/// chord_midpoints below).
 /// Links run in parallel (TBB); the result does not depend on threads.
 Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Edges& links,
                      const ForceField& field, const Points& waypoints,
                      const RemapOptions& options = {},
                      const std::function<Points()>& more_waypoints = {});
+
+/// Waypoints for links no other waypoint routes: the middle of the inward chord from each
+/// face's centroid of `mesh` (along minus its normal), for the faces whose chord ends on the
+/// surface and whose middle is inside: one point in the middle of the shape behind every face,
+/// thin parts included. `surface` is a SurfaceQuery of `mesh`.
+Points chord_midpoints(const Mesh& mesh, const SurfaceQuery& surface);
 
 }  // namespace dcg

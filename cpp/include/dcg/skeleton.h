@@ -12,6 +12,7 @@
 namespace dcg {
 
 struct DomainGraph;
+struct PreparedMesh;
 struct Remapped;
 
 enum class NodeKind { End, Joint, Connection };
@@ -55,5 +56,12 @@ Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
 /// Sets s.root: the joint of largest radius (the torso), else the node of largest radius
 /// (-1 when there is no node).
 void choose_root(Skeleton& s);
+
+/// A skeleton in normalized units -> the input's coordinates (positions, polylines, radii), with
+/// its face labels of the working mesh carried to the input's faces (F_in #F by 3 indices into
+/// the input's vertices: the label most of a face's vertices map to through
+/// prepared.map_face), and stage 0's facts (input size, genus, repaired).
+void skeleton_to_input(Skeleton& s, const PreparedMesh& prepared, const Faces& F_in,
+                       Eigen::Index input_vertices);
 
 }  // namespace dcg

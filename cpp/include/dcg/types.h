@@ -6,6 +6,9 @@
 
 namespace dcg {
 
+/// The default seed of every randomized step (Options::seed and the stages' own seed fields).
+inline constexpr unsigned kDefaultSeed = 0;
+
 /// #V by 3 vertex positions (or any list of 3D points).
 using Vertices = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using Points = Vertices;

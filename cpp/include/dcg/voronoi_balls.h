@@ -4,6 +4,7 @@
 
 #include <functional>
 
+#include "dcg/prepare.h"
 #include "dcg/types.h"
 
 namespace dcg {
@@ -14,16 +15,25 @@ struct VoronoiBallsOptions {
   /// Farthest-point samples on the working mesh's surface (paper: the vertices; more samples
   /// are needed so that thin tips get a ball).
   int samples = 4000;
-  unsigned seed = 0;
+  unsigned seed = kDefaultSeed;
 };
 
 /// Candidate balls: the circumcenters of the finite Delaunay cells of the samples that lie
 /// strictly inside `mesh`, each with radius = distance to the surface (not to the samples).
 /// `mesh` is the closed working mesh of stage 0; `query` is a SurfaceQuery built on it.
+/// A circumcenter that a fold of a noisy mesh puts on the wrong side passes the sign test; the
+/// balls whose centers two rays and ray parity put outside are dropped as well.
 /// `poll` (if set) is called every few milliseconds from this thread; an exception it throws
 /// (Cancelled) stops the stage.
 Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
                             const VoronoiBallsOptions& options = {},
                             const std::function<void()>& poll = {});
+
+/// The samples stage 1 takes (at most options.samples) on a working mesh of `working_faces`
+/// faces made by stage 0 with `prepare`: a small input kept as it is (upsample off) gets one per
+/// two faces, at least kMinSmallSamples.
+int voronoi_samples(const VoronoiBallsOptions& options, const PrepareOptions& prepare,
+                    Eigen::Index working_faces);
+constexpr int kMinSmallSamples = 500;
 
 }  // namespace dcg

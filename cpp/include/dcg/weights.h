@@ -39,6 +39,8 @@
 
 namespace dcg {
 
+struct Options;  // dcg/options.h
+
 struct WeightsOptions {
   /// Largest number of bones weighting one input vertex (the strongest are kept, then the row is
   /// renormalized). Blender's Armature modifier takes any number; game engines want 4.
@@ -53,9 +55,6 @@ struct WeightsOptions {
   /// Bones within this relative distance of the nearest visible one count as equally near
   /// (p = 1/k), as in Pinocchio: a vertex at a joint lies as near to both bones there.
   double tie_tolerance = 1e-4;
-  /// Stage 0 options, used when the weights run stage 0 themselves (no PreparedMesh given).
-  PrepareOptions prepare;
-
   /// Throws InputError naming the first option out of range.
   void validate() const;
 };
@@ -139,11 +138,11 @@ SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bone
                                  const WeightsOptions& options = {},
                                  ProgressCallback progress = {});
 
-/// The same from the input mesh itself: runs stage 0 with options.prepare first.
+/// The same from the input mesh itself: runs stage 0 first with options.prepare_options(), the
+/// working mesh the skeleton gets with the same options, then uses options.weights.
 /// V #V by 3, F #F by 3 indices into V; bones in V's coordinates.
 SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
-                                 const WeightsOptions& options = {},
-                                 ProgressCallback progress = {});
+                                 const Options& options, ProgressCallback progress = {});
 
 /// Distance from p to the segment a-b; `t` (if given) receives the parameter of the closest
 /// point a + t (b - a), in [0, 1].
