@@ -124,6 +124,13 @@ TEST(DomainGraph, CapsuleChainKeepsItsEndsAndPrunesTwigs) {
   EXPECT_GT(g.pruned + g.contracted, 0);
 }
 
+// Signed distance from q to the tube of radius r around the segment a-b (negative inside).
+double tube(const Eigen::Vector3d& q, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+            double r) {
+  const double t = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+  return (q - (a + t * (b - a))).norm() - r;
+}
+
 // An "H": a torso along z (radius 0.5, half length h) with two arms (radius 0.25, along +-x) at
 // each end of it. Hand-placed points: the two junctions where the arms meet the torso, a point
 // half way along each arm, an end point near each tip and, when `middle`, one torso point
@@ -135,13 +142,10 @@ struct HShape {
   HShape(double h, bool middle)
       : scene(test::marching_tetrahedra(
             [h](const Eigen::Vector3d& q) {
-              auto segment = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r) {
-                const double t = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-                return (q - (a + t * (b - a))).norm() - r;
-              };
-              double phi = segment({0, 0, -h}, {0, 0, h}, 0.5);
+              double phi = tube(q, {0, 0, -h}, {0, 0, h}, 0.5);
               for (double z : {-h, h})
-                for (double x : {-2.5, 2.5}) phi = std::min(phi, segment({0, 0, z}, {x, 0, z}, 0.25));
+                for (double x : {-2.5, 2.5})
+                  phi = std::min(phi, tube(q, {0, 0, z}, {x, 0, z}, 0.25));
               return phi;
             },
             -3.2, 3.2, 64)) {
@@ -176,6 +180,142 @@ TEST(DomainGraph, JunctionsLessThanABallApartAreOne) {
   EXPECT_EQ(HShape(0.65, false).joints(), 1);
   // A torso long enough to hold a point of its own between them: two junctions.
   EXPECT_EQ(HShape(1.5, true).joints(), 2);
+}
+
+// Hand-placed points in a shape, those listed in `ends` being end points (prong >= 0).
+struct Placed {
+  Scene scene;
+  dcg::Points points;
+  Eigen::VectorXi prong;
+  Placed(Mesh mesh, const std::vector<Eigen::Vector3d>& p, const std::vector<int>& ends)
+      : scene(std::move(mesh)) {
+    points.resize(static_cast<Eigen::Index>(p.size()), 3);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      points.row(static_cast<Eigen::Index>(i)) = p[i].transpose();
+    prong = Eigen::VectorXi::Constant(points.rows(), -1);
+    for (std::size_t k = 0; k < ends.size(); ++k) prong[ends[k]] = static_cast<int>(k);
+  }
+  dcg::DomainGraph graph(int genus, bool contract = true) const {
+    dcg::DomainGraphOptions o;
+    o.contract = contract;
+    return dcg::compute_domain_graph(scene.mesh, *scene.field, points, scene.radii(points), prong,
+                                     genus, o);
+  }
+};
+
+// Whether point p is a node itself (not absorbed by another one).
+bool is_node(const dcg::DomainGraph& g, int p) {
+  return g.node_of_point[p] >= 0 && g.nodes[g.node_of_point[p]] == p;
+}
+
+// Links of the node standing for point p, and whether that node is linked to q's.
+int degree(const dcg::DomainGraph& g, int p) {
+  const int a = g.node_of_point[p];
+  return static_cast<int>((g.links.array() == a).count());
+}
+bool linked(const dcg::DomainGraph& g, int p, int q) {
+  const int a = g.node_of_point[p], b = g.node_of_point[q];
+  for (Eigen::Index l = 0; l < g.links.rows(); ++l) {
+    const int x = g.links(l, 0), y = g.links(l, 1);
+    if ((x == a && y == b) || (x == b && y == a)) return true;
+  }
+  return false;
+}
+
+dcg::NodeKind kind_of(const dcg::DomainGraph& g, int p) { return g.kinds[g.node_of_point[p]]; }
+
+TEST(DomainGraph, AnEndAbsorbsTheChainNodeNextToIt) {
+  // A capsule along z (radius 0.5, tips at z = +-1.5) holding the chain C - c0 - c1 - B - A: the
+  // end A near the top tip (radius ~0.2) is 0.35 from the chain node B (radius 0.5), a short
+  // link; every other link is longer than its nodes' radii.
+  enum { c0, c1, B, A, C };
+  const Placed s(test::capsule(0.5, 2.0),
+                 {{0, 0, -0.5}, {0, 0, 0.3}, {0, 0, 0.95}, {0, 0, 1.3}, {0, 0, -1.3}}, {A, C});
+  const dcg::DomainGraph before = s.graph(0, false);
+  ASSERT_TRUE(is_node(before, B));
+  ASSERT_TRUE(linked(before, A, B) && linked(before, B, c1));
+
+  const dcg::DomainGraph g = s.graph(0);
+  EXPECT_TRUE(is_node(g, A)) << "the tip keeps its place";
+  EXPECT_EQ(g.node_of_point[B], g.node_of_point[A]);
+  EXPECT_TRUE(linked(g, A, c1));
+  EXPECT_EQ(kind_of(g, A), dcg::NodeKind::End);
+  EXPECT_EQ(g.contracted, 1);
+}
+
+TEST(DomainGraph, AnEndNextToAJunctionStays) {
+  // A ball (radius 0.8) with arms (radius 0.3) along +-z and a short limb along +x. The limb's
+  // end point e lies 0.7 from the junction v, inside v's ball (a short link), but far out of
+  // the arms' tubes (no bump): it stays an end, v a joint.
+  enum { v, w1, w2, e, E1, E2 };
+  const Placed s(
+      test::marching_tetrahedra(
+          [](const Eigen::Vector3d& q) {
+            const double phi = std::min(q.norm() - 0.8, tube(q, {0, 0, -2}, {0, 0, 2}, 0.3));
+            return std::min(phi, tube(q, {0, 0, 0}, {1, 0, 0}, 0.3));
+          },
+          -2.5, 2.5, 64),
+      {{0, 0, 0}, {0, 0, 1.4}, {0, 0, -1.4}, {0.7, 0, 0}, {0, 0, 2.05}, {0, 0, -2.05}},
+      {e, E1, E2});
+  const dcg::DomainGraph before = s.graph(0, false);
+  ASSERT_TRUE(linked(before, e, v));
+  ASSERT_EQ(degree(before, v), 3);
+  ASSERT_LT((s.points.row(e) - s.points.row(v)).norm(), s.scene.radii(s.points)[v]);
+
+  const dcg::DomainGraph g = s.graph(0);
+  ASSERT_TRUE(is_node(g, e) && is_node(g, v));
+  EXPECT_TRUE(linked(g, e, v));
+  EXPECT_EQ(kind_of(g, e), dcg::NodeKind::End);
+  EXPECT_EQ(kind_of(g, v), dcg::NodeKind::Joint);
+  EXPECT_EQ(g.contracted, 0);
+  EXPECT_EQ(g.ends_absorbed, 0);
+}
+
+TEST(DomainGraph, ABumpOnABentTubeMergesIntoItsJunction) {
+  // A torus ring (core radius 1.5, tube radius 0.5) with a small bulge on its outside (a ball
+  // of radius 0.17 at 2.08 from the axis), 8 points on the core circle and an end point e in
+  // the bulge. e is 0.58 from its junction v: out of the straight tubes of v's links (radius
+  // 0.5), but its ball reaches only 0.25 out of the ring's bent tube (less than 0.6 x 0.5).
+  const int v = 0, e = 8;
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < 8; ++i)
+    p.emplace_back(1.5 * std::cos(M_PI * i / 4), 1.5 * std::sin(M_PI * i / 4), 0);
+  p.emplace_back(2.08, 0, 0);
+  const Placed s(test::marching_tetrahedra(
+                     [](const Eigen::Vector3d& q) {
+                       const double ring = std::hypot(std::hypot(q.x(), q.y()) - 1.5, q.z()) - 0.5;
+                       return std::min(ring, (q - Eigen::Vector3d(2.08, 0, 0)).norm() - 0.17);
+                     },
+                     -2.4, 2.4, 96),
+                 p, {e});
+  const dcg::DomainGraph before = s.graph(1, false);
+  ASSERT_TRUE(linked(before, e, v));
+  ASSERT_EQ(degree(before, v), 3);
+  ASSERT_EQ(before.cycles, 1);
+
+  const dcg::DomainGraph g = s.graph(1);
+  EXPECT_EQ(g.node_of_point[e], g.node_of_point[v]);
+  EXPECT_TRUE(is_node(g, v));
+  EXPECT_EQ(g.ends_absorbed, 1);
+  EXPECT_EQ(g.cycles, 1);
+  for (auto kind : g.kinds) EXPECT_EQ(kind, dcg::NodeKind::Connection);
+}
+
+TEST(DomainGraph, TwoEndsAreNeverContracted) {
+  // A capsule along z holding the chain C - c0 - B - A of one connection point and three end
+  // points, A (near the top tip, radius ~0.2) 0.35 from B (radius 0.5): a short link. A comes
+  // before B, so that without the rule A, a leaf, would absorb B as a chain node.
+  enum { c0, A, B, C };
+  const Placed s(test::capsule(0.5, 2.0), {{0, 0, -0.3}, {0, 0, 1.3}, {0, 0, 0.95}, {0, 0, -1.3}},
+                 {A, B, C});
+  const dcg::DomainGraph before = s.graph(0, false);
+  ASSERT_TRUE(linked(before, A, B) && linked(before, B, c0));
+
+  const dcg::DomainGraph g = s.graph(0);
+  EXPECT_TRUE(is_node(g, A));
+  EXPECT_TRUE(is_node(g, B));
+  EXPECT_TRUE(linked(g, A, B));
+  EXPECT_EQ(g.contracted, 0);
 }
 
 TEST(DomainGraph, BadInputIsRefused) {
