@@ -1,6 +1,7 @@
 // dcg/domain_graph.h (stage 6): face labels, links from shared edges, the spanning tree with its
 // handle cycles (visibility rule, genus cap), pruning of non-end leaves, contraction and kinds,
-// on hand-placed points in a torus, a capsule and a sphere.
+// on hand-placed points in a torus, a capsule and a sphere; the contraction and bump passes
+// (domain_graph_passes.h) alone, on hand-placed points in implicit shapes.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "dcg/errors.h"
 #include "dcg/force_field.h"
 #include "dcg/surface_query.h"
+#include "domain_graph_passes.h"
 #include "shapes.h"
 
 namespace {
@@ -195,34 +197,20 @@ struct Placed {
     prong = Eigen::VectorXi::Constant(points.rows(), -1);
     for (std::size_t k = 0; k < ends.size(); ++k) prong[ends[k]] = static_cast<int>(k);
   }
-  dcg::DomainGraph graph(int genus, bool contract = true) const {
-    dcg::DomainGraphOptions o;
-    o.contract = contract;
-    return dcg::compute_domain_graph(scene.mesh, *scene.field, points, scene.radii(points), prong,
-                                     genus, o);
+  // The passes of stage 6 up to pruning: the graph that the contraction passes edit.
+  dcg::internal::GraphWork pruned(int genus) const {
+    const dcg::DomainGraphOptions o;
+    dcg::internal::GraphWork w(scene.mesh, *scene.field, points, scene.radii(points), prong);
+    dcg::internal::label_faces(w, o.visibility_candidates);
+    dcg::internal::link_candidates(w, o.cost_samples);
+    dcg::internal::spanning_tree(w);
+    dcg::internal::keep_handle_cycles(w, genus);
+    dcg::internal::prune(w);
+    return w;
   }
 };
 
-// Whether point p is a node itself (not absorbed by another one).
-bool is_node(const dcg::DomainGraph& g, int p) {
-  return g.node_of_point[p] >= 0 && g.nodes[g.node_of_point[p]] == p;
-}
-
-// Links of the node standing for point p, and whether that node is linked to q's.
-int degree(const dcg::DomainGraph& g, int p) {
-  const int a = g.node_of_point[p];
-  return static_cast<int>((g.links.array() == a).count());
-}
-bool linked(const dcg::DomainGraph& g, int p, int q) {
-  const int a = g.node_of_point[p], b = g.node_of_point[q];
-  for (Eigen::Index l = 0; l < g.links.rows(); ++l) {
-    const int x = g.links(l, 0), y = g.links(l, 1);
-    if ((x == a && y == b) || (x == b && y == a)) return true;
-  }
-  return false;
-}
-
-dcg::NodeKind kind_of(const dcg::DomainGraph& g, int p) { return g.kinds[g.node_of_point[p]]; }
+using Neighbours = std::set<int>;
 
 TEST(DomainGraph, AnEndAbsorbsTheChainNodeNextToIt) {
   // A capsule along z (radius 0.5, tips at z = +-1.5) holding the chain C - c0 - c1 - B - A: the
@@ -231,22 +219,22 @@ TEST(DomainGraph, AnEndAbsorbsTheChainNodeNextToIt) {
   enum { c0, c1, B, A, C };
   const Placed s(test::capsule(0.5, 2.0),
                  {{0, 0, -0.5}, {0, 0, 0.3}, {0, 0, 0.95}, {0, 0, 1.3}, {0, 0, -1.3}}, {A, C});
-  const dcg::DomainGraph before = s.graph(0, false);
-  ASSERT_TRUE(is_node(before, B));
-  ASSERT_TRUE(linked(before, A, B) && linked(before, B, c1));
+  dcg::internal::GraphWork w = s.pruned(0);
+  ASSERT_EQ(w.graph.adj[A], Neighbours{B});
+  ASSERT_EQ(w.graph.adj[B], (Neighbours{c1, A}));
 
-  const dcg::DomainGraph g = s.graph(0);
-  EXPECT_TRUE(is_node(g, A)) << "the tip keeps its place";
-  EXPECT_EQ(g.node_of_point[B], g.node_of_point[A]);
-  EXPECT_TRUE(linked(g, A, c1));
-  EXPECT_EQ(kind_of(g, A), dcg::NodeKind::End);
-  EXPECT_EQ(g.contracted, 1);
+  dcg::internal::contract_short_links(w);
+  EXPECT_TRUE(w.graph.alive[A]) << "the tip keeps its place";
+  EXPECT_FALSE(w.graph.alive[B]);
+  EXPECT_EQ(w.graph.absorbed_by[B], A);
+  EXPECT_EQ(w.graph.adj[A], Neighbours{c1});
+  EXPECT_EQ(w.g.contracted, 1);
 }
 
 TEST(DomainGraph, AnEndNextToAJunctionStays) {
   // A ball (radius 0.8) with arms (radius 0.3) along +-z and a short limb along +x. The limb's
   // end point e lies 0.7 from the junction v, inside v's ball (a short link), but far out of
-  // the arms' tubes (no bump): it stays an end, v a joint.
+  // the arms' tubes (no bump): neither contraction nor the bumps take it.
   enum { v, w1, w2, e, E1, E2 };
   const Placed s(
       test::marching_tetrahedra(
@@ -257,18 +245,18 @@ TEST(DomainGraph, AnEndNextToAJunctionStays) {
           -2.5, 2.5, 64),
       {{0, 0, 0}, {0, 0, 1.4}, {0, 0, -1.4}, {0.7, 0, 0}, {0, 0, 2.05}, {0, 0, -2.05}},
       {e, E1, E2});
-  const dcg::DomainGraph before = s.graph(0, false);
-  ASSERT_TRUE(linked(before, e, v));
-  ASSERT_EQ(degree(before, v), 3);
-  ASSERT_LT((s.points.row(e) - s.points.row(v)).norm(), s.scene.radii(s.points)[v]);
+  dcg::internal::GraphWork w = s.pruned(0);
+  ASSERT_EQ(w.graph.adj[e], Neighbours{v});
+  ASSERT_EQ(w.graph.adj[v], (Neighbours{w1, w2, e}));
+  ASSERT_LT((s.points.row(e) - s.points.row(v)).norm(), w.g.radii[v]);
 
-  const dcg::DomainGraph g = s.graph(0);
-  ASSERT_TRUE(is_node(g, e) && is_node(g, v));
-  EXPECT_TRUE(linked(g, e, v));
-  EXPECT_EQ(kind_of(g, e), dcg::NodeKind::End);
-  EXPECT_EQ(kind_of(g, v), dcg::NodeKind::Joint);
-  EXPECT_EQ(g.contracted, 0);
-  EXPECT_EQ(g.ends_absorbed, 0);
+  dcg::internal::contract_short_links(w);
+  dcg::internal::absorb_bumps(w);
+  EXPECT_TRUE(w.graph.alive[e] && w.graph.alive[v]);
+  EXPECT_EQ(w.graph.adj[e], Neighbours{v});
+  EXPECT_EQ(w.graph.adj[v], (Neighbours{w1, w2, e}));
+  EXPECT_EQ(w.g.contracted, 0);
+  EXPECT_EQ(w.g.ends_absorbed, 0);
 }
 
 TEST(DomainGraph, ABumpOnABentTubeMergesIntoItsJunction) {
@@ -288,17 +276,16 @@ TEST(DomainGraph, ABumpOnABentTubeMergesIntoItsJunction) {
                      },
                      -2.4, 2.4, 96),
                  p, {e});
-  const dcg::DomainGraph before = s.graph(1, false);
-  ASSERT_TRUE(linked(before, e, v));
-  ASSERT_EQ(degree(before, v), 3);
-  ASSERT_EQ(before.cycles, 1);
+  dcg::internal::GraphWork w = s.pruned(1);
+  ASSERT_EQ(w.kept_cycles.size(), 1u);
+  ASSERT_EQ(w.graph.adj[e], Neighbours{v});
+  ASSERT_EQ(w.graph.adj[v], (Neighbours{1, 7, e}));
 
-  const dcg::DomainGraph g = s.graph(1);
-  EXPECT_EQ(g.node_of_point[e], g.node_of_point[v]);
-  EXPECT_TRUE(is_node(g, v));
-  EXPECT_EQ(g.ends_absorbed, 1);
-  EXPECT_EQ(g.cycles, 1);
-  for (auto kind : g.kinds) EXPECT_EQ(kind, dcg::NodeKind::Connection);
+  dcg::internal::absorb_bumps(w);
+  EXPECT_FALSE(w.graph.alive[e]);
+  EXPECT_EQ(w.graph.absorbed_by[e], v);
+  EXPECT_EQ(w.graph.adj[v], (Neighbours{1, 7}));
+  EXPECT_EQ(w.g.ends_absorbed, 1);
 }
 
 TEST(DomainGraph, TwoEndsAreNeverContracted) {
@@ -308,14 +295,14 @@ TEST(DomainGraph, TwoEndsAreNeverContracted) {
   enum { c0, A, B, C };
   const Placed s(test::capsule(0.5, 2.0), {{0, 0, -0.3}, {0, 0, 1.3}, {0, 0, 0.95}, {0, 0, -1.3}},
                  {A, B, C});
-  const dcg::DomainGraph before = s.graph(0, false);
-  ASSERT_TRUE(linked(before, A, B) && linked(before, B, c0));
+  dcg::internal::GraphWork w = s.pruned(0);
+  ASSERT_EQ(w.graph.adj[A], Neighbours{B});
+  ASSERT_EQ(w.graph.adj[B], (Neighbours{c0, A}));
 
-  const dcg::DomainGraph g = s.graph(0);
-  EXPECT_TRUE(is_node(g, A));
-  EXPECT_TRUE(is_node(g, B));
-  EXPECT_TRUE(linked(g, A, B));
-  EXPECT_EQ(g.contracted, 0);
+  dcg::internal::contract_short_links(w);
+  EXPECT_TRUE(w.graph.alive[A] && w.graph.alive[B]);
+  EXPECT_EQ(w.graph.adj[A], Neighbours{B});
+  EXPECT_EQ(w.g.contracted, 0);
 }
 
 TEST(DomainGraph, BadInputIsRefused) {
