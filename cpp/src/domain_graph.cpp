@@ -21,6 +21,7 @@
 #include "dcg/skeleton.h"
 #include "dcg/surface_query.h"
 #include "dcg/weights.h"
+#include "domain_graph_passes.h"
 #include "edge_table.h"
 #include "union_find.h"
 
@@ -29,7 +30,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // How far (in tube radii) an end point's ball may reach out of the body's tube at its junction
-// and still be a bump on it (see the bumps pass).
+// and still be a bump on it (see is_bump).
 constexpr double kBumpReach = 0.6;
 
 using internal::UnionFind;
@@ -114,78 +115,391 @@ double widest_chord(const SurfaceQuery& query, const Eigen::Vector3d& a, const E
   return widest;
 }
 
-// --- the graph being edited: adjacency sets over point indices --------------------------------
-// `alive` is read directly but changed only through set_alive and merge, which keep `live` (its
-// count) up to date: the pruning loops ask for it once per step.
-struct Graph {
-  std::vector<std::set<int>> adj;
-  std::vector<char> alive;
-  std::vector<int> absorbed_by;  // point -> point that absorbed it (-1: none)
-  int live = 0;
+// --- helpers of the passes below ------------------------------------------------------------
 
-  explicit Graph(int n) : adj(n), alive(n, 0), absorbed_by(n, -1) {}
-  void link(int a, int b) {
-    if (a == b) return;
-    adj[a].insert(b);
-    adj[b].insert(a);
-  }
-  void unlink(int a, int b) {
-    adj[a].erase(b);
-    adj[b].erase(a);
-  }
-  int degree(int a) const { return static_cast<int>(adj[a].size()); }
-  // Removes `gone` and hands its links to `keep`.
-  void merge(int keep, int gone) {
-    const std::set<int> others = adj[gone];
-    for (int o : others) {
-      unlink(gone, o);
-      if (o != keep) link(keep, o);
+using internal::Graph;
+using internal::GraphWork;
+
+// Parent pointers of the spanning forest, for the tree path between two points.
+struct TreePaths {
+  std::vector<int> parent, parent_link, depth;
+
+  explicit TreePaths(const GraphWork& w) {
+    const int P = w.point_count();
+    parent.assign(P, -1);
+    parent_link.assign(P, -1);
+    depth.assign(P, -1);
+    for (int r = 0; r < P; ++r) {
+      if (!w.has_face[r] || depth[r] >= 0) continue;
+      depth[r] = 0;
+      std::vector<int> stack = {r};
+      while (!stack.empty()) {
+        const int u = stack.back();
+        stack.pop_back();
+        for (const auto& [v, l] : w.tree[u]) {
+          if (depth[v] >= 0) continue;
+          depth[v] = depth[u] + 1;
+          parent[v] = u;
+          parent_link[v] = l;
+          stack.push_back(v);
+        }
+      }
     }
-    set_alive(gone, false);
-    absorbed_by[gone] = keep;
   }
-  void set_alive(int p, bool value) {
-    live += static_cast<int>(value) - static_cast<int>(alive[p] != 0);
-    alive[p] = value;
+
+  // The cycle that candidate l closes with the tree: its points in order and its links, sorted.
+  void cycle(const Edges& candidates, int l, std::vector<int>& pts, std::vector<int>& links) const {
+    int a = candidates(l, 0), b = candidates(l, 1);
+    std::vector<int> left, right;
+    links = {l};
+    while (a != b) {
+      if (depth[a] >= depth[b]) {
+        left.push_back(a);
+        links.push_back(parent_link[a]);
+        a = parent[a];
+      } else {
+        right.push_back(b);
+        links.push_back(parent_link[b]);
+        b = parent[b];
+      }
+    }
+    pts = left;
+    pts.push_back(a);
+    pts.insert(pts.end(), right.rbegin(), right.rend());
+    std::sort(links.begin(), links.end());
   }
-  int count_alive() const { return live; }
 };
+
+// Whether the cycle with sorted link set `links` duplicates a kept cycle: their symmetric
+// difference is empty or splits into loops whose points all see each other.
+bool duplicates_kept_cycle(const GraphWork& w, const std::vector<int>& links) {
+  const Edges& candidates = w.g.candidates;
+  for (const auto& other : w.kept_cycles) {
+    std::vector<int> diff;
+    std::set_symmetric_difference(links.begin(), links.end(), other.begin(), other.end(),
+                                  std::back_inserter(diff));
+    if (diff.empty()) return true;
+    // Components of the symmetric difference (over its links' points).
+    std::vector<int> members;
+    for (int x : diff) {
+      members.push_back(candidates(x, 0));
+      members.push_back(candidates(x, 1));
+    }
+    std::sort(members.begin(), members.end());
+    members.erase(std::unique(members.begin(), members.end()), members.end());
+    UnionFind local(static_cast<int>(members.size()));
+    auto index = [&](int p) {
+      return static_cast<int>(std::lower_bound(members.begin(), members.end(), p) -
+                              members.begin());
+    };
+    for (int x : diff) local.unite(index(candidates(x, 0)), index(candidates(x, 1)));
+    std::vector<std::vector<int>> groups(members.size());
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      groups[local.find(static_cast<int>(i))].push_back(members[i]);
+    }
+    bool all_visible = true;
+    for (const auto& group : groups) {
+      if (!group.empty() && !all_see_each_other(w.query, w.g.points, group)) {
+        all_visible = false;
+        break;
+      }
+    }
+    if (all_visible) return true;
+  }
+  return false;
+}
+
+// The live point farthest from `from` along the graph (a tree), with the path back in `prev`.
+int farthest(const Graph& graph, const Points& points, int from, std::vector<int>& prev) {
+  const int P = static_cast<int>(graph.adj.size());
+  std::vector<double> dist(P, -1);
+  prev.assign(P, -1);
+  dist[from] = 0;
+  std::vector<int> stack = {from};
+  int best = from;
+  while (!stack.empty()) {
+    const int u = stack.back();
+    stack.pop_back();
+    if (dist[u] > dist[best]) best = u;
+    for (int v : graph.adj[u]) {
+      if (dist[v] >= 0) continue;
+      dist[v] = dist[u] + (points.row(u) - points.row(v)).norm();
+      prev[v] = u;
+      stack.push_back(v);
+    }
+  }
+  return best;
+}
+
+// No limb to keep: the longest path of the tree (from the end point when there is one); every
+// branch off it is absorbed by the path node it hangs from.
+void keep_longest_path(GraphWork& w, int live_ends) {
+  Graph& graph = w.graph;
+  const int P = w.point_count();
+  int start = -1;
+  for (int p = 0; p < P; ++p) {
+    if (!graph.alive[p]) continue;
+    if (start < 0 || (w.is_end(p) && !w.is_end(start)) ||
+        (w.is_end(p) == w.is_end(start) && w.g.radii[p] > w.g.radii[start])) {
+      start = p;
+    }
+  }
+  std::vector<int> prev;
+  if (live_ends == 0) start = farthest(graph, w.g.points, start, prev);
+  const int stop = farthest(graph, w.g.points, start, prev);
+  std::vector<char> on_path(P, 0);
+  for (int u = stop; u >= 0; u = prev[u]) on_path[u] = 1;
+  std::vector<int> queue;
+  for (int p = 0; p < P; ++p)
+    if (on_path[p]) queue.push_back(p);
+  std::vector<char> seen(on_path.begin(), on_path.end());
+  std::vector<std::pair<int, int>> absorbed;  // (point, by)
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int u = queue[head];
+    for (int v : graph.adj[u]) {
+      if (seen[v]) continue;
+      seen[v] = 1;
+      absorbed.emplace_back(v, u);
+      queue.push_back(v);
+    }
+  }
+  for (auto it = absorbed.rbegin(); it != absorbed.rend(); ++it) {
+    graph.merge(it->second, it->first);
+    ++w.g.pruned;
+  }
+}
+
+// Non-end leaves are pruned repeatedly (their parent may become one), while more than two
+// points live.
+void prune_leaves(GraphWork& w) {
+  Graph& graph = w.graph;
+  std::vector<int> queue;
+  for (int p = 0; p < w.point_count(); ++p)
+    if (graph.alive[p] && graph.degree(p) <= 1 && !w.is_end(p)) queue.push_back(p);
+  while (!queue.empty()) {
+    const int p = queue.back();
+    queue.pop_back();
+    if (!graph.alive[p] || graph.degree(p) > 1 || w.is_end(p)) continue;
+    if (graph.count_alive() <= 2) break;
+    if (graph.degree(p) == 0) {
+      graph.set_alive(p, false);  // an isolated point (cannot happen on a connected surface)
+      ++w.g.pruned;
+      continue;
+    }
+    const int q = *graph.adj[p].begin();
+    graph.merge(q, p);
+    ++w.g.pruned;
+    if (graph.degree(q) <= 1 && !w.is_end(q)) queue.push_back(q);
+  }
+}
+
+// Links shorter than the larger radius of their nodes, by that ratio (shortest first).
+std::vector<std::tuple<double, int, int>> short_links(const GraphWork& w) {
+  std::vector<std::tuple<double, int, int>> shorts;
+  for (int a = 0; a < w.point_count(); ++a) {
+    if (!w.graph.alive[a]) continue;
+    for (int b : w.graph.adj[a]) {
+      if (b < a) continue;
+      const double length = (w.g.points.row(a) - w.g.points.row(b)).norm();
+      const double reach = std::max(w.g.radii[a], w.g.radii[b]);
+      if (length < reach) shorts.emplace_back(length / reach, a, b);
+    }
+  }
+  std::sort(shorts.begin(), shorts.end());
+  return shorts;
+}
+
+bool share_a_neighbour(const Graph& graph, int a, int b) {
+  for (int x : graph.adj[a]) {
+    if (x != b && graph.adj[b].count(x)) return true;
+  }
+  return false;
+}
+
+// Whether the end point e, a leaf on the junction v, is a bump on the body at v: inside the tube
+// of another link of v (within the smaller radius of its nodes), or with its ball reaching out
+// of the bent tube through v and two other neighbours by less than kBumpReach of that tube.
+bool is_bump(const GraphWork& w, int e, int v) {
+  const Points& points = w.g.points;
+  const Eigen::VectorXd& radii = w.g.radii;
+  const Eigen::Vector3d pe = points.row(e).transpose(), pv = points.row(v).transpose();
+  std::vector<int> others;
+  for (int x : w.graph.adj[v])
+    if (x != e) others.push_back(x);
+  for (std::size_t i = 0; i < others.size(); ++i) {
+    const int a = others[i];
+    const Eigen::Vector3d pa = points.row(a).transpose();
+    if (point_segment_distance(pe, pv, pa) < std::min(radii[v], radii[a])) return true;
+    // The body may bend at v (a loop of the eight): its center line through a, v and another
+    // neighbour b beyond v is about the circle arc through them, and a straight link cuts
+    // inside that bend by up to a radius. A limb reaches out of that tube (the smallest radius
+    // of the three) by more than one radius (fertility's closest head: 1.1, the eight's bumps
+    // under noise: 0.2-0.25).
+    for (std::size_t j = i + 1; j < others.size(); ++j) {
+      const int b = others[j];
+      const Eigen::Vector3d pb = points.row(b).transpose();
+      // Only where the body runs through v (a and b on either side of it): through two
+      // neighbours on one side (two limbs' roots) the arc is most of a circle, far from the body.
+      if ((pa - pv).dot(pb - pv) >= 0) continue;
+      const double tube = std::min({radii[v], radii[a], radii[b]});
+      if (arc_distance(pe, pa, pv, pb) + radii[e] < (1 + kBumpReach) * tube) return true;
+    }
+  }
+  return false;
+}
+
+// Walks the chain of degree-2 points from the junction a through its neighbour `first`; returns
+// the point where it stops (a junction, an end, or a itself around a cycle).
+int walk_chain(const Graph& graph, int a, int first, std::vector<int>& chain) {
+  chain.clear();
+  int prev = a, cur = first;
+  while (graph.degree(cur) == 2 && cur != a) {
+    chain.push_back(cur);
+    const int next = *graph.adj[cur].begin() == prev ? *std::next(graph.adj[cur].begin())
+                                                     : *graph.adj[cur].begin();
+    prev = cur;
+    cur = next;
+  }
+  return cur;
+}
+
+// The gap between the balls of junctions a and b along the chain between them, each junction
+// being the union of the points merged into it so far (`members`).
+double junction_gap(const GraphWork& w, const std::vector<int>& members_a,
+                    const std::vector<int>& members_b, const std::vector<int>& chain) {
+  const Points& points = w.g.points;
+  const Eigen::VectorXd& radii = w.g.radii;
+  if (chain.empty()) {
+    double gap = std::numeric_limits<double>::infinity();
+    for (int m : members_a)
+      for (int n : members_b)
+        gap = std::min(gap, (points.row(m) - points.row(n)).norm() - radii[m] - radii[n]);
+    return gap;
+  }
+  double inner = 0;
+  for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+    inner += (points.row(chain[k]) - points.row(chain[k + 1])).norm();
+  }
+  double head = std::numeric_limits<double>::infinity(), tail = head;
+  for (int m : members_a) {
+    head = std::min(head, (points.row(m) - points.row(chain.front())).norm() - radii[m]);
+  }
+  for (int n : members_b) {
+    tail = std::min(tail, (points.row(n) - points.row(chain.back())).norm() - radii[n]);
+  }
+  return head + inner + tail;
+}
+
+// Whether junctions a and b are closer to each other than the widest chord of the shape through
+// their midpoint: a body part shorter than it is wide is no part (a palm with fingers hanging
+// from two of its points, a chunky torso, or one junction split in two whose balls overlap,
+// joined through a point beside them); a torso or a limb is longer than it is wide. The straight
+// segment must stay inside, or the chord measures another part.
+bool closer_than_wide(const GraphWork& w, int a, int b) {
+  const Eigen::Vector3d pa = w.g.points.row(a).transpose(), pb = w.g.points.row(b).transpose();
+  const double apart = (pa - pb).norm();
+  if (apart <= 0 || !w.query.segment_inside(pa, pb)) return false;
+  const double chord = widest_chord(w.query, pa, pb);
+  return std::isfinite(chord) && apart < chord;
+}
+
+// Whether a reaches b other than through `chain` (or their direct link): the two lie on a cycle.
+bool on_a_cycle(const Graph& graph, int a, int b, const std::vector<int>& chain) {
+  std::vector<char> seen(graph.alive.size(), 0);
+  for (int c : chain) seen[c] = 1;
+  seen[a] = 1;
+  std::vector<int> stack;
+  for (int n : graph.adj[a]) {
+    if (n == (chain.empty() ? b : chain.front())) continue;
+    if (!seen[n]) {
+      seen[n] = 1;
+      stack.push_back(n);
+    }
+  }
+  bool other_path = false;
+  while (!stack.empty() && !other_path) {
+    const int u = stack.back();
+    stack.pop_back();
+    for (int n : graph.adj[u]) {
+      if (n == b) other_path = true;
+      if (!seen[n]) {
+        seen[n] = 1;
+        stack.push_back(n);
+      }
+    }
+  }
+  return other_path;
+}
+
+// One merge of two junctions (see merge_joints); false when no pair qualifies.
+bool merge_one_joint_pair(GraphWork& w, std::vector<std::vector<int>>& members) {
+  Graph& graph = w.graph;
+  const Eigen::VectorXd& radii = w.g.radii;
+  std::vector<int> chain;
+  for (int a = 0; a < w.point_count(); ++a) {
+    if (!graph.alive[a] || graph.degree(a) < 3) continue;
+    for (int first : graph.adj[a]) {
+      const int b = walk_chain(graph, a, first, chain);
+      if (b == a || graph.degree(b) < 3) continue;
+      // Directly linked junctions (their domain surfaces touch: no body part between them) are
+      // one junction while their balls are less than a ball apart; across a chain only
+      // overlapping balls merge (a chain a ball long can be a torso: the cheetah's front and
+      // hind junctions, perturbed, came 0.94 balls apart along theirs).
+      const double reach = chain.empty() ? std::min(radii[a], radii[b]) : 0.0;
+      if (junction_gap(w, members[a], members[b], chain) >= reach && !closer_than_wide(w, a, b)) {
+        continue;
+      }
+      if (on_a_cycle(graph, a, b, chain)) continue;  // merging would fold the cycle
+      const int keep = radii[b] > radii[a] ? b : a, gone = keep == a ? b : a;
+      for (int c : chain) graph.merge(keep, c);
+      graph.merge(keep, gone);
+      members[keep].insert(members[keep].end(), members[gone].begin(), members[gone].end());
+      ++w.g.joints_merged;
+      return true;
+    }
+  }
+  return false;
+}
 
 }  // namespace
 
-DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, const Points& points,
-                                 const Eigen::VectorXd& radii, const Eigen::VectorXi& prong,
-                                 int genus, const DomainGraphOptions& options) {
-  int P = static_cast<int>(points.rows());
-  const int nf = static_cast<int>(mesh.F.rows());
-  if (radii.size() != P || prong.size() != P) {
-    throw InputError("domain graph: points, radii and prong differ in length");
-  }
-  if (nf == 0) throw InputError("domain graph: the mesh has no faces");
-  if (P == 0) throw InputError("the shape has no interior: no point to build a graph from");
-  const SurfaceQuery& query = field.query();
-  DomainGraph g;
+namespace internal {
+
+GraphWork::GraphWork(const Mesh& mesh_, const ForceField& field_, const Points& points,
+                     const Eigen::VectorXd& radii, const Eigen::VectorXi& prong)
+    : mesh(mesh_),
+      field(field_),
+      query(field_.query()),
+      centroid(mesh_.F.rows(), 3),
+      adjacency(face_adjacency(mesh_.F)),
+      graph(static_cast<int>(points.rows())) {
   g.points = points;
   g.radii = radii;
   g.prong = prong;
-  auto is_end = [&](int p) { return prong[p] >= 0; };
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    centroid.row(f) =
+        (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))) / 3.0;
+  }
+}
 
-  // --- 1. primitive visible faces ------------------------------------------------------------
+void seed_primitive_faces(GraphWork& w) {
+  DomainGraph& g = w.g;
+  const int P = w.point_count();
   std::vector<int> closest_face(P);
   std::vector<double> closest_distance(P);
   tbb::parallel_for(0, P, [&](int p) {
     int f = -1;
-    const Eigen::Vector3d q = query.closest_point(points.row(p).transpose(), &f);
+    const Eigen::Vector3d q = w.query.closest_point(g.points.row(p).transpose(), &f);
     closest_face[p] = f;
-    closest_distance[p] = (q - points.row(p).transpose()).norm();
+    closest_distance[p] = (q - g.points.row(p).transpose()).norm();
   });
   std::vector<int> claim_order(P);
   std::iota(claim_order.begin(), claim_order.end(), 0);
   std::stable_sort(claim_order.begin(), claim_order.end(), [&](int a, int b) {
-    if (is_end(a) != is_end(b)) return is_end(a);
+    if (w.is_end(a) != w.is_end(b)) return w.is_end(a);
     return closest_distance[a] < closest_distance[b];
   });
-  g.face_labels = Eigen::VectorXi::Constant(nf, -1);
+  g.face_labels = Eigen::VectorXi::Constant(w.mesh.F.rows(), -1);
   g.primitive_face = Eigen::VectorXi::Constant(P, -1);
   for (int p : claim_order) {
     const int f = closest_face[p];
@@ -194,32 +508,32 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     g.primitive_face[p] = f;
     ++g.faces_seeded;
   }
+}
 
-  // --- nearest visible point of every face ---------------------------------------------------
-  Points centroid(nf, 3);
-  for (int f = 0; f < nf; ++f) {
-    centroid.row(f) = (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))) / 3.0;
-  }
+void find_visible_owners(GraphWork& w, int candidates) {
+  DomainGraph& g = w.g;
+  const int P = w.point_count(), nf = static_cast<int>(w.mesh.F.rows());
+  candidates = std::max(1, std::min(candidates, P));
   g.visible_owner = Eigen::VectorXi::Constant(nf, -1);
-  const int candidates = std::max(1, std::min(options.visibility_candidates, P));
   tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& range) {
     std::vector<std::pair<double, int>> d(P);
     std::vector<double> a(3 * 8), b(3 * 8);
     unsigned char blocked[8];
     for (int f = range.begin(); f != range.end(); ++f) {
-      const Eigen::RowVector3d c = centroid.row(f);
-      for (int p = 0; p < P; ++p) d[p] = {(points.row(p) - c).norm() - radii[p], p};
+      const Eigen::RowVector3d c = w.centroid.row(f);
+      for (int p = 0; p < P; ++p) d[p] = {(g.points.row(p) - c).norm() - g.radii[p], p};
       std::partial_sort(d.begin(), d.begin() + candidates, d.end());
       // The nearest candidate alone first (it usually sees the face), then packets of 8.
-      for (int start = 0; start < candidates && g.visible_owner[f] < 0; start += start == 0 ? 1 : 8) {
+      for (int start = 0; start < candidates && g.visible_owner[f] < 0;
+           start += start == 0 ? 1 : 8) {
         const int n = std::min(start == 0 ? 1 : 8, candidates - start);
         for (int k = 0; k < n; ++k) {
           for (int j = 0; j < 3; ++j) {
-            a[3 * k + j] = points(d[start + k].second, j);
+            a[3 * k + j] = g.points(d[start + k].second, j);
             b[3 * k + j] = c[j];
           }
         }
-        query.segments_blocked(a.data(), b.data(), n, 1e-4, blocked);
+        w.query.segments_blocked(a.data(), b.data(), n, 1e-4, blocked);
         for (int k = 0; k < n; ++k) {
           if (!blocked[k]) {
             g.visible_owner[f] = d[start + k].second;
@@ -229,515 +543,252 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
       }
     }
   });
+}
 
-  // --- 2. region growing ---------------------------------------------------------------------
-  const std::vector<int> adjacency = face_adjacency(mesh.F);
-  {
-    std::vector<int> queue;
-    for (int f = 0; f < nf; ++f)
-      if (g.face_labels[f] >= 0) queue.push_back(f);
-    for (std::size_t head = 0; head < queue.size(); ++head) {
-      const int f = queue[head];
-      const int label = g.face_labels[f];
-      for (int k = 0; k < 3; ++k) {
-        const int h = adjacency[3 * f + k];
-        if (h < 0 || g.face_labels[h] >= 0 || g.visible_owner[h] != label) continue;
-        g.face_labels[h] = label;
-        ++g.faces_grown;
-        queue.push_back(h);
+void grow_regions(GraphWork& w) {
+  DomainGraph& g = w.g;
+  std::vector<int> queue;
+  for (int f = 0; f < g.face_labels.size(); ++f)
+    if (g.face_labels[f] >= 0) queue.push_back(f);
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int f = queue[head];
+    const int label = g.face_labels[f];
+    for (int k = 0; k < 3; ++k) {
+      const int h = w.adjacency[3 * f + k];
+      if (h < 0 || g.face_labels[h] >= 0 || g.visible_owner[h] != label) continue;
+      g.face_labels[h] = label;
+      ++g.faces_grown;
+      queue.push_back(h);
+    }
+  }
+}
+
+void flood_fill_labels(GraphWork& w) {
+  DomainGraph& g = w.g;
+  const int nf = static_cast<int>(g.face_labels.size());
+  std::vector<double> dist(nf, kInf);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  for (int f = 0; f < nf; ++f) {
+    if (g.face_labels[f] >= 0) {
+      dist[f] = 0;
+      heap.push({0.0, f});
+    }
+  }
+  std::vector<char> done(nf, 0);
+  while (!heap.empty()) {
+    const auto [d, f] = heap.top();
+    heap.pop();
+    if (done[f]) continue;
+    done[f] = 1;
+    for (int k = 0; k < 3; ++k) {
+      const int h = w.adjacency[3 * f + k];
+      if (h < 0 || done[h]) continue;
+      const double nd = d + (w.centroid.row(f) - w.centroid.row(h)).norm();
+      if (nd < dist[h]) {  // only unlabelled faces can improve (labelled ones are at 0)
+        dist[h] = nd;
+        g.face_labels[h] = g.face_labels[f];
+        heap.push({nd, h});
       }
     }
   }
-  // --- 3. flood fill, nearest first ----------------------------------------------------------
-  {
-    std::vector<double> dist(nf, kInf);
-    using Item = std::pair<double, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-    for (int f = 0; f < nf; ++f) {
-      if (g.face_labels[f] >= 0) {
-        dist[f] = 0;
-        heap.push({0.0, f});
-      }
-    }
-    std::vector<char> done(nf, 0);
-    while (!heap.empty()) {
-      const auto [d, f] = heap.top();
-      heap.pop();
-      if (done[f]) continue;
-      done[f] = 1;
-      for (int k = 0; k < 3; ++k) {
-        const int h = adjacency[3 * f + k];
-        if (h < 0 || done[h]) continue;
-        const double nd = d + (centroid.row(f) - centroid.row(h)).norm();
-        if (nd < dist[h]) {  // only unlabelled faces can improve (labelled ones are at 0)
-          dist[h] = nd;
-          g.face_labels[h] = g.face_labels[f];
-          heap.push({nd, h});
-        }
-      }
-    }
-    g.faces_filled = static_cast<int>((g.face_labels.array() >= 0).count()) - g.faces_seeded - g.faces_grown;
-  }
+  g.faces_filled =
+      static_cast<int>((g.face_labels.array() >= 0).count()) - g.faces_seeded - g.faces_grown;
+}
 
-  // --- links from shared edges, their costs --------------------------------------------------
-  {
-    std::vector<std::pair<int, int>> pairs;
-    for (int f = 0; f < nf; ++f) {
-      for (int k = 0; k < 3; ++k) {
-        const int h = adjacency[3 * f + k];
-        if (h < 0) continue;
-        int a = g.face_labels[f], b = g.face_labels[h];
-        if (a < 0 || b < 0 || a == b) continue;
-        if (a > b) std::swap(a, b);
-        pairs.emplace_back(a, b);
-      }
-    }
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    const int L = static_cast<int>(pairs.size());
-    g.candidates.resize(L, 2);
-    g.costs.resize(L);
-    g.candidate_state = Eigen::VectorXi::Zero(L);
-    for (int l = 0; l < L; ++l) g.candidates.row(l) << pairs[l].first, pairs[l].second;
-    tbb::parallel_for(0, L, [&](int l) {
-      const Eigen::Vector3d a = points.row(pairs[l].first).transpose(),
-                            b = points.row(pairs[l].second).transpose();
-      // Both points are inside, so the link is inside unless its segment crosses the surface.
-      // (Requiring also that every sample on it see only backs of faces in all 64 directions
-      // failed at any 0.3% noise fold in view: a noisy kitten lost the link that closes its
-      // tail's loop in 5 of 10 draws.) The field is sampled only along links that stay inside.
-      g.costs[l] = query.segment_blocked(a, b) ? kInf : field.mean_magnitude(a, b, options.cost_samples);
-    });
-  }
+void label_faces(GraphWork& w, int visibility_candidates) {
+  seed_primitive_faces(w);
+  find_visible_owners(w, visibility_candidates);
+  grow_regions(w);
+  flood_fill_labels(w);
+}
 
-  // --- spanning tree ----------------------------------------------------------------------
-  const int L = static_cast<int>(g.candidates.rows());
-  std::vector<char> has_face(P, 0);
-  for (int f = 0; f < nf; ++f)
-    if (g.face_labels[f] >= 0) has_face[g.face_labels[f]] = 1;
-  Graph graph(P);
-  for (int p = 0; p < P; ++p) graph.set_alive(p, has_face[p] != 0);
-  std::vector<int> order(L);
-  std::iota(order.begin(), order.end(), 0);
-  auto touches_end = [&](int l) { return is_end(g.candidates(l, 0)) || is_end(g.candidates(l, 1)); };
-  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+void link_candidates(GraphWork& w, int cost_samples) {
+  DomainGraph& g = w.g;
+  std::vector<std::pair<int, int>> pairs;
+  for (int f = 0; f < g.face_labels.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int h = w.adjacency[3 * f + k];
+      if (h < 0) continue;
+      int a = g.face_labels[f], b = g.face_labels[h];
+      if (a < 0 || b < 0 || a == b) continue;
+      if (a > b) std::swap(a, b);
+      pairs.emplace_back(a, b);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const int L = static_cast<int>(pairs.size());
+  g.candidates.resize(L, 2);
+  g.costs.resize(L);
+  g.candidate_state = Eigen::VectorXi::Zero(L);
+  for (int l = 0; l < L; ++l) g.candidates.row(l) << pairs[l].first, pairs[l].second;
+  tbb::parallel_for(0, L, [&](int l) {
+    const Eigen::Vector3d a = g.points.row(pairs[l].first).transpose(),
+                          b = g.points.row(pairs[l].second).transpose();
+    // Both points are inside, so the link is inside unless its segment crosses the surface.
+    // (Requiring also that every sample on it see only backs of faces in all 64 directions
+    // failed at any 0.3% noise fold in view: a noisy kitten lost the link that closes its
+    // tail's loop in 5 of 10 draws.) The field is sampled only along links that stay inside.
+    g.costs[l] = w.query.segment_blocked(a, b) ? kInf : w.field.mean_magnitude(a, b, cost_samples);
+  });
+}
+
+void spanning_tree(GraphWork& w) {
+  DomainGraph& g = w.g;
+  const int P = w.point_count(), L = static_cast<int>(g.candidates.rows());
+  w.has_face.assign(P, 0);
+  for (int f = 0; f < g.face_labels.size(); ++f)
+    if (g.face_labels[f] >= 0) w.has_face[g.face_labels[f]] = 1;
+  for (int p = 0; p < P; ++p) w.graph.set_alive(p, w.has_face[p] != 0);
+  w.tree_order.resize(L);
+  std::iota(w.tree_order.begin(), w.tree_order.end(), 0);
+  auto touches_end = [&](int l) {
+    return w.is_end(g.candidates(l, 0)) || w.is_end(g.candidates(l, 1));
+  };
+  std::stable_sort(w.tree_order.begin(), w.tree_order.end(), [&](int x, int y) {
     if (touches_end(x) != touches_end(y)) return !touches_end(x);
     return g.costs[x] < g.costs[y];
   });
   UnionFind uf(P);
-  std::vector<std::vector<std::pair<int, int>>> tree(P);  // (neighbour, link)
-  for (int l : order) {
+  w.tree.assign(P, {});
+  for (int l : w.tree_order) {
     const int a = g.candidates(l, 0), b = g.candidates(l, 1);
     if (uf.unite(a, b)) {
       g.candidate_state[l] = 1;
-      tree[a].push_back({b, l});
-      tree[b].push_back({a, l});
-      graph.link(a, b);
+      w.tree[a].push_back({b, l});
+      w.tree[b].push_back({a, l});
+      w.graph.link(a, b);
     }
   }
+}
 
-  // --- handle cycles ------------------------------------------------------------------------
-  std::vector<std::vector<int>> kept;  // link sets of the kept cycles
-  if (genus > 0) {
-    // Parent pointers of the spanning forest, for tree paths.
-    std::vector<int> parent(P, -1), parent_link(P, -1), depth(P, -1);
-    for (int r = 0; r < P; ++r) {
-      if (!has_face[r] || depth[r] >= 0) continue;
-      depth[r] = 0;
-      std::vector<int> stack = {r};
-      while (!stack.empty()) {
-        const int u = stack.back();
-        stack.pop_back();
-        for (const auto& [v, l] : tree[u]) {
-          if (depth[v] >= 0) continue;
-          depth[v] = depth[u] + 1;
-          parent[v] = u;
-          parent_link[v] = l;
-          stack.push_back(v);
-        }
-      }
-    }
-    auto cycle_of = [&](int l, std::vector<int>& pts, std::vector<int>& links) {
-      int a = g.candidates(l, 0), b = g.candidates(l, 1);
-      std::vector<int> left, right;
-      links = {l};
-      while (a != b) {
-        if (depth[a] >= depth[b]) {
-          left.push_back(a);
-          links.push_back(parent_link[a]);
-          a = parent[a];
-        } else {
-          right.push_back(b);
-          links.push_back(parent_link[b]);
-          b = parent[b];
-        }
-      }
-      pts = left;
-      pts.push_back(a);
-      pts.insert(pts.end(), right.rbegin(), right.rend());
-      std::sort(links.begin(), links.end());
-    };
-    std::vector<int> non_tree;
-    for (int l : order) {
-      if (g.candidate_state[l] == 0 && std::isfinite(g.costs[l])) non_tree.push_back(l);
-    }
-    std::stable_sort(non_tree.begin(), non_tree.end(),
-                     [&](int x, int y) { return g.costs[x] < g.costs[y]; });
-    for (int l : non_tree) {
-      if (static_cast<int>(kept.size()) >= genus) break;
-      std::vector<int> pts, links;
-      cycle_of(l, pts, links);
-      if (all_see_each_other(query, points, pts)) {
-        ++g.cycles_rejected_visible;
-        continue;
-      }
-      bool duplicate = false;
-      for (const auto& other : kept) {
-        std::vector<int> diff;
-        std::set_symmetric_difference(links.begin(), links.end(), other.begin(), other.end(),
-                                      std::back_inserter(diff));
-        if (diff.empty()) {
-          duplicate = true;
-          break;
-        }
-        // Components of the symmetric difference (over its links' points).
-        std::vector<int> members;
-        for (int x : diff) {
-          members.push_back(g.candidates(x, 0));
-          members.push_back(g.candidates(x, 1));
-        }
-        std::sort(members.begin(), members.end());
-        members.erase(std::unique(members.begin(), members.end()), members.end());
-        UnionFind local(static_cast<int>(members.size()));
-        auto index = [&](int p) {
-          return static_cast<int>(std::lower_bound(members.begin(), members.end(), p) - members.begin());
-        };
-        for (int x : diff) local.unite(index(g.candidates(x, 0)), index(g.candidates(x, 1)));
-        std::vector<std::vector<int>> groups(members.size());
-        for (std::size_t i = 0; i < members.size(); ++i) groups[local.find(static_cast<int>(i))].push_back(members[i]);
-        bool all_visible = true;
-        for (const auto& group : groups) {
-          if (!group.empty() && !all_see_each_other(query, points, group)) {
-            all_visible = false;
-            break;
-          }
-        }
-        if (all_visible) {
-          duplicate = true;
-          break;
-        }
-      }
-      if (duplicate) {
-        ++g.cycles_rejected_duplicate;
-        continue;
-      }
-      kept.push_back(links);
-      g.candidate_state[l] = 2;
-      graph.link(g.candidates(l, 0), g.candidates(l, 1));
-    }
+void keep_handle_cycles(GraphWork& w, int genus) {
+  DomainGraph& g = w.g;
+  if (genus <= 0) return;
+  const TreePaths paths(w);
+  std::vector<int> non_tree;
+  for (int l : w.tree_order) {
+    if (g.candidate_state[l] == 0 && std::isfinite(g.costs[l])) non_tree.push_back(l);
   }
+  std::stable_sort(non_tree.begin(), non_tree.end(),
+                   [&](int x, int y) { return g.costs[x] < g.costs[y]; });
+  for (int l : non_tree) {
+    if (static_cast<int>(w.kept_cycles.size()) >= genus) break;
+    std::vector<int> pts, links;
+    paths.cycle(g.candidates, l, pts, links);
+    if (all_see_each_other(w.query, g.points, pts)) {
+      ++g.cycles_rejected_visible;
+      continue;
+    }
+    if (duplicates_kept_cycle(w, links)) {
+      ++g.cycles_rejected_duplicate;
+      continue;
+    }
+    w.kept_cycles.push_back(links);
+    g.candidate_state[l] = 2;
+    w.graph.link(g.candidates(l, 0), g.candidates(l, 1));
+  }
+}
 
-  // --- pruning ----------------------------------------------------------------------------
+void prune(GraphWork& w) {
   int live_ends = 0;
-  for (int p = 0; p < P; ++p) live_ends += graph.alive[p] && is_end(p);
-  if (options.prune && live_ends <= 1 && kept.empty()) {
-    // No limb to keep: the longest path of the tree (from the end point when there is one).
-    auto farthest = [&](int from, std::vector<int>& prev) {
-      std::vector<double> dist(P, -1);
-      prev.assign(P, -1);
-      dist[from] = 0;
-      std::vector<int> stack = {from};
-      int best = from;
-      while (!stack.empty()) {
-        const int u = stack.back();
-        stack.pop_back();
-        if (dist[u] > dist[best]) best = u;
-        for (int v : graph.adj[u]) {
-          if (dist[v] >= 0) continue;
-          dist[v] = dist[u] + (points.row(u) - points.row(v)).norm();
-          prev[v] = u;
-          stack.push_back(v);
-        }
-      }
-      return best;
-    };
-    int start = -1;
-    for (int p = 0; p < P; ++p) {
-      if (!graph.alive[p]) continue;
-      if (start < 0 || (is_end(p) && !is_end(start)) ||
-          (is_end(p) == is_end(start) && radii[p] > radii[start])) {
-        start = p;
-      }
-    }
-    std::vector<int> prev;
-    if (live_ends == 0) start = farthest(start, prev);
-    const int stop = farthest(start, prev);
-    std::vector<char> on_path(P, 0);
-    for (int u = stop; u >= 0; u = prev[u]) on_path[u] = 1;
-    // Everything off the path is absorbed by the path node its branch hangs from.
-    std::vector<int> queue;
-    for (int p = 0; p < P; ++p)
-      if (on_path[p]) queue.push_back(p);
-    std::vector<char> seen(on_path.begin(), on_path.end());
-    std::vector<std::pair<int, int>> absorbed;  // (point, by)
-    for (std::size_t head = 0; head < queue.size(); ++head) {
-      const int u = queue[head];
-      for (int v : graph.adj[u]) {
-        if (seen[v]) continue;
-        seen[v] = 1;
-        absorbed.emplace_back(v, u);
-        queue.push_back(v);
-      }
-    }
-    for (auto it = absorbed.rbegin(); it != absorbed.rend(); ++it) {
-      graph.merge(it->second, it->first);
-      ++g.pruned;
-    }
-  } else if (options.prune) {
-    std::vector<int> queue;
-    for (int p = 0; p < P; ++p)
-      if (graph.alive[p] && graph.degree(p) <= 1 && !is_end(p)) queue.push_back(p);
-    while (!queue.empty()) {
-      const int p = queue.back();
-      queue.pop_back();
-      if (!graph.alive[p] || graph.degree(p) > 1 || is_end(p)) continue;
+  for (int p = 0; p < w.point_count(); ++p) live_ends += w.graph.alive[p] && w.is_end(p);
+  if (live_ends <= 1 && w.kept_cycles.empty()) {
+    keep_longest_path(w, live_ends);
+  } else {
+    prune_leaves(w);
+  }
+}
+
+void contract_short_links(GraphWork& w) {
+  Graph& graph = w.graph;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const auto& [ratio, a0, b0] : short_links(w)) {
+      (void)ratio;
+      int a = a0, b = b0;
+      if (!graph.alive[a] || !graph.alive[b] || !graph.adj[a].count(b)) continue;
       if (graph.count_alive() <= 2) break;
-      if (graph.degree(p) == 0) {
-        graph.set_alive(p, false);  // an isolated point (cannot happen on a connected surface)
-        ++g.pruned;
-        continue;
+      if (share_a_neighbour(graph, a, b)) continue;  // contracting would fold a cycle
+      if (w.is_end(a) && w.is_end(b)) continue;
+      if (w.is_end(b) && !w.is_end(a)) std::swap(a, b);
+      if (w.is_end(a)) {
+        // A tip absorbs the chain node next to it. An end inside a cycle or a chain stays, and
+        // so does one next to a junction (absorb_bumps decides with the tube test).
+        if (graph.degree(a) != 1 || graph.degree(b) != 2) continue;
+        graph.merge(a, b);
+      } else {
+        if (w.g.radii[b] > w.g.radii[a]) std::swap(a, b);
+        graph.merge(a, b);
       }
-      const int q = *graph.adj[p].begin();
-      graph.merge(q, p);
-      ++g.pruned;
-      if (graph.degree(q) <= 1 && !is_end(q)) queue.push_back(q);
+      ++w.g.contracted;
+      changed = true;
     }
   }
+}
 
-  // --- contraction of short links ------------------------------------------------------------
-  if (options.contract) {
-    for (bool changed = true; changed;) {
-      changed = false;
-      // Shortest (relative to the larger radius) first.
-      std::vector<std::tuple<double, int, int>> shorts;
-      for (int a = 0; a < P; ++a) {
-        if (!graph.alive[a]) continue;
-        for (int b : graph.adj[a]) {
-          if (b < a) continue;
-          const double length = (points.row(a) - points.row(b)).norm();
-          const double reach = std::max(radii[a], radii[b]);
-          if (length < reach) shorts.emplace_back(length / reach, a, b);
-        }
-      }
-      std::sort(shorts.begin(), shorts.end());
-      for (const auto& [ratio, a0, b0] : shorts) {
-        (void)ratio;
-        int a = a0, b = b0;
-        if (!graph.alive[a] || !graph.alive[b] || !graph.adj[a].count(b)) continue;
-        if (graph.count_alive() <= 2) break;
-        bool shared = false;
-        for (int x : graph.adj[a]) {
-          if (x != b && graph.adj[b].count(x)) {
-            shared = true;
-            break;
-          }
-        }
-        if (shared) continue;
-        if (is_end(a) && is_end(b)) continue;
-        if (is_end(b) && !is_end(a)) std::swap(a, b);
-        if (is_end(a)) {
-          // a is an end point (b is not): a tip absorbs the chain node next to it. An end
-          // next to a junction stays (the bumps pass below decides with the tube test).
-          if (graph.degree(a) == 1 && graph.degree(b) == 2) {
-            graph.merge(a, b);
-          } else {
-            continue;  // an end point inside a cycle or a chain, or next to a junction
-          }
-        } else {
-          if (radii[b] > radii[a]) std::swap(a, b);
-          graph.merge(a, b);
-        }
-        ++g.contracted;
-        changed = true;
-      }
+void absorb_bumps(GraphWork& w) {
+  Graph& graph = w.graph;
+  for (int e = 0; e < w.point_count(); ++e) {
+    if (!graph.alive[e] || !w.is_end(e) || graph.degree(e) != 1) continue;
+    const int v = *graph.adj[e].begin();
+    if (graph.degree(v) < 3 || graph.count_alive() <= 2) continue;
+    if (is_bump(w, e, v)) {
+      graph.merge(v, e);
+      ++w.g.ends_absorbed;
     }
   }
+}
 
-  // --- bumps: an end point that lies inside the tube of another link of its junction ----------
-  // (within the smaller radius of that link's nodes), or whose ball barely reaches out of the
-  // bent tube through its junction and two other neighbours, is part of the body, not a limb:
-  // the digit eight's prongs sit on its loops. It merges into its junction.
-  if (options.contract) {
-    for (int e = 0; e < P; ++e) {
-      if (!graph.alive[e] || !is_end(e) || graph.degree(e) != 1) continue;
-      const int v = *graph.adj[e].begin();
-      if (graph.degree(v) < 3 || graph.count_alive() <= 2) continue;
-      const Eigen::Vector3d pe = points.row(e).transpose(), pv = points.row(v).transpose();
-      std::vector<int> others;
-      for (int w : graph.adj[v])
-        if (w != e) others.push_back(w);
-      bool bump = false;
-      for (std::size_t i = 0; i < others.size() && !bump; ++i) {
-        const int w = others[i];
-        const Eigen::Vector3d pw = points.row(w).transpose();
-        bump = point_segment_distance(pe, pv, pw) < std::min(radii[v], radii[w]);
-        // The body may bend at v (a loop of the eight): its center line through w, v and
-        // another neighbour x beyond v is about the circle arc through them, and a straight
-        // link cuts inside that bend by up to a radius. The end is a bump when its ball reaches
-        // out of that tube (the smallest radius of the three) by less than kBumpReach of it;
-        // a limb reaches out by more than one (fertility's closest head: 1.1, the eight's
-        // bumps under noise: 0.2-0.25).
-        for (std::size_t j = i + 1; j < others.size() && !bump; ++j) {
-          const int x = others[j];
-          const Eigen::Vector3d px = points.row(x).transpose();
-          // Only where the body runs through v (w and x on either side of it): through two
-          // neighbours on one side (two limbs' roots) the arc is most of a circle, far from
-          // the body.
-          if ((pw - pv).dot(px - pv) >= 0) continue;
-          const double tube = std::min({radii[v], radii[w], radii[x]});
-          bump = arc_distance(pe, pw, pv, px) + radii[e] <
-                 (1 + kBumpReach) * tube;
-        }
-      }
-      if (bump) {
-        graph.merge(v, e);
-        ++g.ends_absorbed;
-      }
-    }
+void merge_joints(GraphWork& w) {
+  std::vector<std::vector<int>> members(w.point_count());
+  for (int p = 0; p < w.point_count(); ++p) members[p] = {p};
+  while (merge_one_joint_pair(w, members)) {
   }
+}
 
-  // --- joints close along their path, or closer than the body is wide, are one junction --------
-  if (options.merge_joints) {
-    std::vector<std::vector<int>> members(P);
-    for (int p = 0; p < P; ++p) members[p] = {p};
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (int a = 0; a < P && !changed; ++a) {
-        if (!graph.alive[a] || graph.degree(a) < 3) continue;
-        for (int first : graph.adj[a]) {
-          // Walk the chain of degree-2 points from a through `first`.
-          std::vector<int> chain;
-          int prev = a, cur = first;
-          while (graph.degree(cur) == 2 && cur != a) {
-            chain.push_back(cur);
-            const int next = *graph.adj[cur].begin() == prev ? *std::next(graph.adj[cur].begin())
-                                                              : *graph.adj[cur].begin();
-            prev = cur;
-            cur = next;
-          }
-          const int b = cur;
-          if (b == a || graph.degree(b) < 3) continue;
-          // The gap between the two junctions' balls along the chain, each junction being the
-          // union of the joints merged into it so far (the chain hangs from one of them).
-          double gap = 0;
-          if (chain.empty()) {
-            gap = std::numeric_limits<double>::infinity();
-            for (int m : members[a])
-              for (int n : members[b])
-                gap = std::min(gap, (points.row(m) - points.row(n)).norm() - radii[m] - radii[n]);
-          } else {
-            double inner = 0;
-            for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
-              inner += (points.row(chain[k]) - points.row(chain[k + 1])).norm();
-            }
-            double head = std::numeric_limits<double>::infinity(), tail = head;
-            for (int m : members[a]) head = std::min(head, (points.row(m) - points.row(chain.front())).norm() - radii[m]);
-            for (int n : members[b]) tail = std::min(tail, (points.row(n) - points.row(chain.back())).norm() - radii[n]);
-            gap = head + inner + tail;
-          }
-          // Directly linked junctions (their domain surfaces touch: no body part between them)
-          // are one junction while their balls are less than a ball apart; across a chain only
-          // overlapping balls merge (a chain a ball long can be a torso: the cheetah's front and
-          // hind junctions, perturbed, came 0.94 balls apart along theirs).
-          const double reach = chain.empty() ? std::min(radii[a], radii[b]) : 0.0;
-          if (gap >= reach) {
-            // Nor is a body part one that is shorter than the body is wide across it: two
-            // junctions closer to each other than the widest chord through their midpoint are
-            // one, whatever lies between them (a palm with fingers hanging from two of its
-            // points, a chunky torso, or one junction split in two whose balls overlap, joined
-            // through a point beside them). A torso or a limb between two junctions is longer
-            // than it is wide. The straight segment must stay inside, or the chord measures
-            // another part.
-            const Eigen::Vector3d pa = points.row(a).transpose(), pb = points.row(b).transpose();
-            const double apart = (pa - pb).norm();
-            if (apart <= 0 || !query.segment_inside(pa, pb)) continue;
-            const double chord = widest_chord(query, pa, pb);
-            if (!std::isfinite(chord) || apart >= chord) continue;
-          }
-          // Only across a bridge: merging the two ends of a cycle would fold it.
-          std::vector<char> seen(graph.alive.size(), 0);
-          for (int c : chain) seen[c] = 1;
-          seen[a] = 1;
-          std::vector<int> stack;
-          for (int n : graph.adj[a]) {
-            if (n == (chain.empty() ? b : chain.front())) continue;
-            if (!seen[n]) {
-              seen[n] = 1;
-              stack.push_back(n);
-            }
-          }
-          bool other_path = false;
-          while (!stack.empty() && !other_path) {
-            const int u = stack.back();
-            stack.pop_back();
-            for (int n : graph.adj[u]) {
-              if (n == b) other_path = true;
-              if (!seen[n]) {
-                seen[n] = 1;
-                stack.push_back(n);
-              }
-            }
-          }
-          if (other_path) continue;
-          const int keep = radii[b] > radii[a] ? b : a, gone = keep == a ? b : a;
-          for (int c : chain) graph.merge(keep, c);
-          graph.merge(keep, gone);
-          members[keep].insert(members[keep].end(), members[gone].begin(), members[gone].end());
-          ++g.joints_merged;
-          changed = true;
-          break;
-        }
-      }
-    }
+void add_spine(GraphWork& w) {
+  // A sphere: every domain point reaches its center. Two points on its principal axis, half way
+  // from the center to the surface on either side, give it a bone.
+  Graph& graph = w.graph;
+  DomainGraph& g = w.g;
+  if (graph.count_alive() != 1) return;
+  int c = 0;
+  while (!graph.alive[c]) ++c;
+  const Eigen::RowVector3d mean = w.mesh.V.colwise().mean();
+  const Eigen::MatrixXd centered = w.mesh.V.rowwise() - mean;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(centered.transpose() * centered);
+  const Eigen::Vector3d axis = pca.eigenvectors().col(2);
+  const Eigen::Vector3d pc = g.points.row(c).transpose();
+  std::vector<Eigen::Vector3d> spine;
+  for (double side : {1.0, -1.0}) {
+    const double wall = w.query.ray_hit(pc, side * axis);
+    if (!std::isfinite(wall) || wall <= 0) continue;
+    const Eigen::Vector3d q = pc + 0.5 * wall * side * axis;
+    if (w.query.inside(q)) spine.push_back(q);
   }
-
-  // --- a spine for a shape that shrank to one point ------------------------------------------
-  // (a sphere: every domain point reaches its center) so that it still gets a bone: two points
-  // on its principal axis, half way from the center to the surface on either side.
-  if (graph.count_alive() == 1) {
-    int c = 0;
-    while (!graph.alive[c]) ++c;
-    const Eigen::RowVector3d mean = mesh.V.colwise().mean();
-    const Eigen::MatrixXd centered = mesh.V.rowwise() - mean;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(centered.transpose() * centered);
-    const Eigen::Vector3d axis = pca.eigenvectors().col(2);
-    const Eigen::Vector3d pc = g.points.row(c).transpose();
-    std::vector<Eigen::Vector3d> spine;
-    for (double side : {1.0, -1.0}) {
-      const double wall = query.ray_hit(pc, side * axis);
-      if (!std::isfinite(wall) || wall <= 0) continue;
-      const Eigen::Vector3d q = pc + 0.5 * wall * side * axis;
-      if (query.inside(q)) spine.push_back(q);
-    }
-    for (const Eigen::Vector3d& q : spine) {
-      const int index = static_cast<int>(g.points.rows());
-      g.points.conservativeResize(index + 1, 3);
-      g.points.row(index) = q.transpose();
-      g.radii.conservativeResize(index + 1);
-      g.radii[index] = query.distance(q);
-      g.prong.conservativeResize(index + 1);
-      g.prong[index] = -1;
-      has_face.push_back(0);
-      graph.adj.emplace_back();
-      graph.alive.push_back(0);
-      graph.set_alive(index, true);
-      graph.absorbed_by.push_back(-1);
-      graph.link(c, index);
-    }
+  for (const Eigen::Vector3d& q : spine) {
+    const int index = static_cast<int>(g.points.rows());
+    g.points.conservativeResize(index + 1, 3);
+    g.points.row(index) = q.transpose();
+    g.radii.conservativeResize(index + 1);
+    g.radii[index] = w.query.distance(q);
+    g.prong.conservativeResize(index + 1);
+    g.prong[index] = -1;
+    w.has_face.push_back(0);
+    graph.adj.emplace_back();
+    graph.alive.push_back(0);
+    graph.set_alive(index, true);
+    graph.absorbed_by.push_back(-1);
+    graph.link(c, index);
   }
+}
 
-  // --- the kept graph -----------------------------------------------------------------------
-  P = static_cast<int>(g.points.rows());
+void classify(GraphWork& w) {
+  DomainGraph& g = w.g;
+  const Graph& graph = w.graph;
+  const int P = w.point_count();
   g.node_of_point = Eigen::VectorXi::Constant(P, -1);
   for (int p = 0; p < P; ++p) {
     if (graph.alive[p]) {
@@ -746,9 +797,11 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     }
   }
   for (int p = 0; p < P; ++p) {
-    if (graph.alive[p] || !has_face[p]) continue;
+    if (graph.alive[p] || !w.has_face[p]) continue;
     int q = p;
-    for (int guard = 0; guard <= P && !graph.alive[q] && graph.absorbed_by[q] >= 0; ++guard) q = graph.absorbed_by[q];
+    for (int guard = 0; guard <= P && !graph.alive[q] && graph.absorbed_by[q] >= 0; ++guard) {
+      q = graph.absorbed_by[q];
+    }
     g.node_of_point[p] = graph.alive[q] ? g.node_of_point[q] : -1;
   }
   std::vector<std::pair<int, int>> links;
@@ -768,16 +821,41 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
     comp.unite(a, b);
   }
   g.kinds.resize(N);
-  for (int i = 0; i < N; ++i) {
-    g.kinds[i] = node_kind_of_degree(static_cast<std::size_t>(degree[i]));
-  }
+  for (int i = 0; i < N; ++i) g.kinds[i] = node_kind_of_degree(static_cast<std::size_t>(degree[i]));
   for (int i = 0; i < N; ++i) g.components += comp.find(i) == i;
   g.cycles = static_cast<int>(links.size()) - N + g.components;
-  g.face_nodes.resize(nf);
-  for (int f = 0; f < nf; ++f) {
+  g.face_nodes.resize(g.face_labels.size());
+  for (int f = 0; f < g.face_labels.size(); ++f) {
     g.face_nodes[f] = g.face_labels[f] >= 0 ? g.node_of_point[g.face_labels[f]] : -1;
   }
-  return g;
+}
+
+}  // namespace internal
+
+DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, const Points& points,
+                                 const Eigen::VectorXd& radii, const Eigen::VectorXi& prong,
+                                 int genus, const DomainGraphOptions& options) {
+  const Eigen::Index P = points.rows();
+  if (radii.size() != P || prong.size() != P) {
+    throw InputError("domain graph: points, radii and prong differ in length");
+  }
+  if (mesh.F.rows() == 0) throw InputError("domain graph: the mesh has no faces");
+  if (P == 0) throw InputError("the shape has no interior: no point to build a graph from");
+  using namespace internal;
+  GraphWork w(mesh, field, points, radii, prong);
+  label_faces(w, options.visibility_candidates);
+  link_candidates(w, options.cost_samples);
+  spanning_tree(w);
+  keep_handle_cycles(w, genus);
+  if (options.prune) prune(w);
+  if (options.contract) {
+    contract_short_links(w);
+    absorb_bumps(w);
+  }
+  if (options.merge_joints) merge_joints(w);
+  add_spine(w);
+  classify(w);
+  return std::move(w.g);
 }
 
 }  // namespace dcg

@@ -1,6 +1,7 @@
 // dcg/domain_graph.h (stage 6): face labels, links from shared edges, the spanning tree with its
 // handle cycles (visibility rule, genus cap), pruning of non-end leaves, contraction and kinds,
-// on hand-placed points in a torus, a capsule and a sphere.
+// on hand-placed points in a torus, a capsule and a sphere; the contraction and bump passes
+// (domain_graph_passes.h) alone, on hand-placed points in implicit shapes.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "dcg/errors.h"
 #include "dcg/force_field.h"
 #include "dcg/surface_query.h"
+#include "domain_graph_passes.h"
 #include "shapes.h"
 
 namespace {
@@ -124,6 +126,13 @@ TEST(DomainGraph, CapsuleChainKeepsItsEndsAndPrunesTwigs) {
   EXPECT_GT(g.pruned + g.contracted, 0);
 }
 
+// Signed distance from q to the tube of radius r around the segment a-b (negative inside).
+double tube(const Eigen::Vector3d& q, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+            double r) {
+  const double t = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+  return (q - (a + t * (b - a))).norm() - r;
+}
+
 // An "H": a torso along z (radius 0.5, half length h) with two arms (radius 0.25, along +-x) at
 // each end of it. Hand-placed points: the two junctions where the arms meet the torso, a point
 // half way along each arm, an end point near each tip and, when `middle`, one torso point
@@ -135,13 +144,10 @@ struct HShape {
   HShape(double h, bool middle)
       : scene(test::marching_tetrahedra(
             [h](const Eigen::Vector3d& q) {
-              auto segment = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r) {
-                const double t = std::clamp((q - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-                return (q - (a + t * (b - a))).norm() - r;
-              };
-              double phi = segment({0, 0, -h}, {0, 0, h}, 0.5);
+              double phi = tube(q, {0, 0, -h}, {0, 0, h}, 0.5);
               for (double z : {-h, h})
-                for (double x : {-2.5, 2.5}) phi = std::min(phi, segment({0, 0, z}, {x, 0, z}, 0.25));
+                for (double x : {-2.5, 2.5})
+                  phi = std::min(phi, tube(q, {0, 0, z}, {x, 0, z}, 0.25));
               return phi;
             },
             -3.2, 3.2, 64)) {
@@ -176,6 +182,127 @@ TEST(DomainGraph, JunctionsLessThanABallApartAreOne) {
   EXPECT_EQ(HShape(0.65, false).joints(), 1);
   // A torso long enough to hold a point of its own between them: two junctions.
   EXPECT_EQ(HShape(1.5, true).joints(), 2);
+}
+
+// Hand-placed points in a shape, those listed in `ends` being end points (prong >= 0).
+struct Placed {
+  Scene scene;
+  dcg::Points points;
+  Eigen::VectorXi prong;
+  Placed(Mesh mesh, const std::vector<Eigen::Vector3d>& p, const std::vector<int>& ends)
+      : scene(std::move(mesh)) {
+    points.resize(static_cast<Eigen::Index>(p.size()), 3);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      points.row(static_cast<Eigen::Index>(i)) = p[i].transpose();
+    prong = Eigen::VectorXi::Constant(points.rows(), -1);
+    for (std::size_t k = 0; k < ends.size(); ++k) prong[ends[k]] = static_cast<int>(k);
+  }
+  // The passes of stage 6 up to pruning: the graph that the contraction passes edit.
+  dcg::internal::GraphWork pruned(int genus) const {
+    const dcg::DomainGraphOptions o;
+    dcg::internal::GraphWork w(scene.mesh, *scene.field, points, scene.radii(points), prong);
+    dcg::internal::label_faces(w, o.visibility_candidates);
+    dcg::internal::link_candidates(w, o.cost_samples);
+    dcg::internal::spanning_tree(w);
+    dcg::internal::keep_handle_cycles(w, genus);
+    dcg::internal::prune(w);
+    return w;
+  }
+};
+
+using Neighbours = std::set<int>;
+
+TEST(DomainGraph, AnEndAbsorbsTheChainNodeNextToIt) {
+  // A capsule along z (radius 0.5, tips at z = +-1.5) holding the chain C - c0 - c1 - B - A: the
+  // end A near the top tip (radius ~0.2) is 0.35 from the chain node B (radius 0.5), a short
+  // link; every other link is longer than its nodes' radii.
+  enum { c0, c1, B, A, C };
+  const Placed s(test::capsule(0.5, 2.0),
+                 {{0, 0, -0.5}, {0, 0, 0.3}, {0, 0, 0.95}, {0, 0, 1.3}, {0, 0, -1.3}}, {A, C});
+  dcg::internal::GraphWork w = s.pruned(0);
+  ASSERT_EQ(w.graph.adj[A], Neighbours{B});
+  ASSERT_EQ(w.graph.adj[B], (Neighbours{c1, A}));
+
+  dcg::internal::contract_short_links(w);
+  EXPECT_TRUE(w.graph.alive[A]) << "the tip keeps its place";
+  EXPECT_FALSE(w.graph.alive[B]);
+  EXPECT_EQ(w.graph.absorbed_by[B], A);
+  EXPECT_EQ(w.graph.adj[A], Neighbours{c1});
+  EXPECT_EQ(w.g.contracted, 1);
+}
+
+TEST(DomainGraph, AnEndNextToAJunctionStays) {
+  // A ball (radius 0.8) with arms (radius 0.3) along +-z and a short limb along +x. The limb's
+  // end point e lies 0.7 from the junction v, inside v's ball (a short link), but far out of
+  // the arms' tubes (no bump): neither contraction nor the bumps take it.
+  enum { v, w1, w2, e, E1, E2 };
+  const Placed s(
+      test::marching_tetrahedra(
+          [](const Eigen::Vector3d& q) {
+            const double phi = std::min(q.norm() - 0.8, tube(q, {0, 0, -2}, {0, 0, 2}, 0.3));
+            return std::min(phi, tube(q, {0, 0, 0}, {1, 0, 0}, 0.3));
+          },
+          -2.5, 2.5, 64),
+      {{0, 0, 0}, {0, 0, 1.4}, {0, 0, -1.4}, {0.7, 0, 0}, {0, 0, 2.05}, {0, 0, -2.05}},
+      {e, E1, E2});
+  dcg::internal::GraphWork w = s.pruned(0);
+  ASSERT_EQ(w.graph.adj[e], Neighbours{v});
+  ASSERT_EQ(w.graph.adj[v], (Neighbours{w1, w2, e}));
+  ASSERT_LT((s.points.row(e) - s.points.row(v)).norm(), w.g.radii[v]);
+
+  dcg::internal::contract_short_links(w);
+  dcg::internal::absorb_bumps(w);
+  EXPECT_TRUE(w.graph.alive[e] && w.graph.alive[v]);
+  EXPECT_EQ(w.graph.adj[e], Neighbours{v});
+  EXPECT_EQ(w.graph.adj[v], (Neighbours{w1, w2, e}));
+  EXPECT_EQ(w.g.contracted, 0);
+  EXPECT_EQ(w.g.ends_absorbed, 0);
+}
+
+TEST(DomainGraph, ABumpOnABentTubeMergesIntoItsJunction) {
+  // A torus ring (core radius 1.5, tube radius 0.5) with a small bulge on its outside (a ball
+  // of radius 0.17 at 2.08 from the axis), 8 points on the core circle and an end point e in
+  // the bulge. e is 0.58 from its junction v: out of the straight tubes of v's links (radius
+  // 0.5), but its ball reaches only 0.25 out of the ring's bent tube (less than 0.6 x 0.5).
+  const int v = 0, e = 8;
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < 8; ++i)
+    p.emplace_back(1.5 * std::cos(M_PI * i / 4), 1.5 * std::sin(M_PI * i / 4), 0);
+  p.emplace_back(2.08, 0, 0);
+  const Placed s(test::marching_tetrahedra(
+                     [](const Eigen::Vector3d& q) {
+                       const double ring = std::hypot(std::hypot(q.x(), q.y()) - 1.5, q.z()) - 0.5;
+                       return std::min(ring, (q - Eigen::Vector3d(2.08, 0, 0)).norm() - 0.17);
+                     },
+                     -2.4, 2.4, 96),
+                 p, {e});
+  dcg::internal::GraphWork w = s.pruned(1);
+  ASSERT_EQ(w.kept_cycles.size(), 1u);
+  ASSERT_EQ(w.graph.adj[e], Neighbours{v});
+  ASSERT_EQ(w.graph.adj[v], (Neighbours{1, 7, e}));
+
+  dcg::internal::absorb_bumps(w);
+  EXPECT_FALSE(w.graph.alive[e]);
+  EXPECT_EQ(w.graph.absorbed_by[e], v);
+  EXPECT_EQ(w.graph.adj[v], (Neighbours{1, 7}));
+  EXPECT_EQ(w.g.ends_absorbed, 1);
+}
+
+TEST(DomainGraph, TwoEndsAreNeverContracted) {
+  // A capsule along z holding the chain C - c0 - B - A of one connection point and three end
+  // points, A (near the top tip, radius ~0.2) 0.35 from B (radius 0.5): a short link. A comes
+  // before B, so that without the rule A, a leaf, would absorb B as a chain node.
+  enum { c0, A, B, C };
+  const Placed s(test::capsule(0.5, 2.0), {{0, 0, -0.3}, {0, 0, 1.3}, {0, 0, 0.95}, {0, 0, -1.3}},
+                 {A, B, C});
+  dcg::internal::GraphWork w = s.pruned(0);
+  ASSERT_EQ(w.graph.adj[A], Neighbours{B});
+  ASSERT_EQ(w.graph.adj[B], (Neighbours{c0, A}));
+
+  dcg::internal::contract_short_links(w);
+  EXPECT_TRUE(w.graph.alive[A] && w.graph.alive[B]);
+  EXPECT_EQ(w.graph.adj[A], Neighbours{B});
+  EXPECT_EQ(w.g.contracted, 0);
 }
 
 TEST(DomainGraph, BadInputIsRefused) {

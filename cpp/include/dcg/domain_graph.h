@@ -57,6 +57,9 @@
 //     principal axis, half way from that point to the surface on either side (they own no face);
 //   - kinds by degree: 1 end, >= 3 joint, else connection (an end point on a cycle becomes a
 //     connection point, as the digit eight's).
+//
+// compute_domain_graph runs these rules as a chain of passes, each declared and documented in
+// the internal header cpp/src/domain_graph_passes.h (where the tests call them one by one).
 #pragma once
 
 #include <vector>
