@@ -10,7 +10,7 @@ import pytest
 from mathutils import Vector
 from mathutils.bvhtree import BVHTree
 
-from conftest import REPO
+from conftest import REPO, shared_skeleton
 
 MESHES = {
     "octopus-low.obj": Path(os.environ.get("DCG_MESHES", "")) / "octopus-low.obj",
@@ -53,18 +53,21 @@ def rigged(request, dcg):
     # and some skeletons are not stable under that.
     SEEN[mesh_obj.name] = mesh_io.evaluated_world_mesh(bpy.context, mesh_obj)
     assert bpy.ops.object.dcg_auto_rig(weights="ENVELOPE") == {"FINISHED"}
+    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    assert arm["dcg_method"] == "dcg", f"{request.param}: rigged from {arm['dcg_method']}"
     return mesh_obj
 
 
 def test_the_armature_is_the_skeletons_bone_plan(rigged, dcg):
-    from dcg_rig import bones, properties
+    from dcg_rig import properties
 
     arms = [o for o in bpy.data.objects if o.type == "ARMATURE"]
     assert len(arms) == 1
     V, F = SEEN[rigged.name]
-    skeleton = dcg.extract_skeleton(V, F)  # same mesh, same default options: same skeleton
+    # same mesh, same default options: same skeleton
+    skeleton = shared_skeleton(dcg, V, F, rigged.name)
     settings = properties.settings(bpy.context)
-    plan = bones.plan_bones(skeleton, settings.bone_detail)
+    plan = dcg.bones.plan_bones(skeleton, settings.bone_detail)
     armature_bones = arms[0].data.bones
     assert len(armature_bones) == len(plan)
     for spec in plan:
