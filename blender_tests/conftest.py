@@ -43,6 +43,14 @@ def dcg():
     return _engine.require()
 
 
+def shared_skeleton(dcg, V, F, name, **options):
+    """dcg.extract_skeleton(V, F, **options) of the shared mesh `name`, checked to be a DCG
+    skeleton: the engine's fallback must not pass a test on a shared mesh silently."""
+    skeleton = dcg.extract_skeleton(V, F, **options)
+    assert skeleton.method == "dcg", f"{name}: the engine fell back: {skeleton.method}"
+    return skeleton
+
+
 def _clear_scene():
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)

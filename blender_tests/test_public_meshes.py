@@ -10,7 +10,7 @@ import pytest
 from mathutils import Vector
 from mathutils.bvhtree import BVHTree
 
-from conftest import REPO
+from conftest import REPO, shared_skeleton
 
 MESHES = {
     "octopus-low.obj": Path(os.environ.get("DCG_MESHES", "")) / "octopus-low.obj",
@@ -53,18 +53,21 @@ def rigged(request, dcg):
     # and some skeletons are not stable under that.
     SEEN[mesh_obj.name] = mesh_io.evaluated_world_mesh(bpy.context, mesh_obj)
     assert bpy.ops.object.dcg_auto_rig(weights="ENVELOPE") == {"FINISHED"}
+    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    assert arm["dcg_method"] == "dcg", f"{request.param}: rigged from {arm['dcg_method']}"
     return mesh_obj
 
 
 def test_the_armature_is_the_skeletons_bone_plan(rigged, dcg):
-    from dcg_rig import bones, properties
+    from dcg_rig import properties
 
     arms = [o for o in bpy.data.objects if o.type == "ARMATURE"]
     assert len(arms) == 1
     V, F = SEEN[rigged.name]
-    skeleton = dcg.extract_skeleton(V, F)  # same mesh, same default options: same skeleton
+    # same mesh, same default options: same skeleton
+    skeleton = shared_skeleton(dcg, V, F, rigged.name)
     settings = properties.settings(bpy.context)
-    plan = bones.plan_bones(skeleton, settings.bone_detail)
+    plan = dcg.bones.plan_bones(skeleton, settings.bone_detail)
     armature_bones = arms[0].data.bones
     assert len(armature_bones) == len(plan)
     for spec in plan:
@@ -72,6 +75,36 @@ def test_the_armature_is_the_skeletons_bone_plan(rigged, dcg):
         assert bone["dcg_kind"] == spec.kind
         if spec.node >= 0:  # a bone ending at a node has the node's kind
             assert spec.kind == str(skeleton.kinds[spec.node])
+
+
+def test_the_batch_npz_holds_the_armatures_bones(rigged, dcg):
+    """`dcg batch`'s .weights.npz of the same skeleton has the armature's bones: names,
+    heads, tails (world space) and parents."""
+    import importlib
+    import io
+
+    from dcg_rig import armature, properties
+
+    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    V, F = SEEN[rigged.name]
+    skeleton = shared_skeleton(dcg, V, F, rigged.name)
+    batch_worker = importlib.import_module(dcg.__name__ + ".batch_worker")
+    data, status = batch_worker.weights_npz(
+        V, F, skeleton, bone_detail=properties.settings(bpy.context).bone_detail)
+    assert status == "ok"
+    heads, tails = armature.bone_world_segments(arm)
+    made = {bone.name: (head, tail, bone.parent.name if bone.parent else None)
+            for bone, head, tail in zip(arm.data.bones, heads, tails)}
+    with np.load(io.BytesIO(data)) as npz:
+        names = [str(n) for n in npz["bone_names"]]
+        assert sorted(names) == sorted(made)
+        size = float(np.linalg.norm(np.ptp(V, axis=0)))
+        for b, name in enumerate(names):
+            head, tail, parent = made[name]
+            assert np.allclose(npz["bone_heads"][b], head, atol=1e-5 * size), name
+            assert np.allclose(npz["bone_tails"][b], tail, atol=1e-5 * size), name
+            p = npz["bone_parents"][b]
+            assert parent == (names[p] if p >= 0 else None), name
 
 
 def test_every_bone_lies_inside_the_mesh(rigged):

@@ -5,7 +5,7 @@ same run. Runs inside Blender:
         --pythonpath build/python --out out/bench/weights.md ../shared/meshes/hand.obj ...
 
 Per mesh (and per --scale, default 1): the DCG skeleton, the add-on's bone plan
-(addon/dcg_rig/bones.py plan_bones), an armature of those bones; then
+(dcg.bones.plan_bones), an armature of those bones; then
   ours:    dcg.skin_weights(V, F, plan): stage 0 + bone heat + transfer (seconds, unweighted)
   blender: bpy.ops.object.parent_set(type='ARMATURE_AUTO') (seconds, vertices left with no
            weight: Blender fails silently, see ENVIRONMENT.md)
@@ -15,7 +15,6 @@ the same path with .jsonl.
 
 import argparse
 import dataclasses
-import importlib.util
 import json
 import os
 import sys
@@ -39,14 +38,6 @@ def parse():
     parser.add_argument("--bone-detail", type=float, default=0.5)
     parser.add_argument("--repeat", type=int, default=1, help="time ours this many times (min)")
     return parser.parse_args(argv)
-
-
-def load_bones_module():
-    path = os.path.join(REPO, "addon", "dcg_rig", "bones.py")
-    spec = importlib.util.spec_from_file_location("dcg_rig_bones", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def clear_scene():
@@ -107,7 +98,7 @@ def main():
     import dcg
     from dcg.weights import skin_weights
 
-    bones = load_bones_module()
+    from dcg import bones
     rows = []
     for path in args.meshes:
         V0, F = dcg.load_mesh(path)

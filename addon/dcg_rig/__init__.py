@@ -5,8 +5,9 @@ the active mesh into a rigged character: the engine (`dcg`, C++) extracts the sk
 the evaluated mesh in world space, `armature` builds end, joint and connection bones and
 `weights` binds the mesh. `cli.py` does the same headlessly (`make rig`).
 
-The modules without `bpy` (bones, options, skinning, geometry, worker, _engine) are tested
-by plain pytest; this file only registers when it runs inside Blender.
+The bone plan is the engine package's (`dcg.bones`). The modules without `bpy` (options,
+skinning, geometry, worker, _engine) are tested by plain pytest; this file only registers
+when it runs inside Blender.
 """
 
 bl_info = {

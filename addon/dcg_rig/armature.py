@@ -1,6 +1,7 @@
 """Skeleton -> Blender armature: bones, names, kinds, colors; finding and clearing rigs.
 
-The bones come from `bones.plan_bones` in world space; the armature object sits at the
+The bones come from the engine package's planner (`dcg.bones.plan_bones`, the one
+`dcg batch` uses too) in world space; the armature object sits at the
 mesh's world transform, so its rest pose matches the skeleton exactly. Bones are handled by
 name across mode switches (EditBone references die when edit mode ends).
 """

@@ -2,12 +2,18 @@
 
     blender -b --factory-startup --python addon/dcg_rig/cli.py -- MESH \\
         [-o OUT.blend] [--glb OUT.glb] [--fbx OUT.fbx] [--png OUT.png] [--up auto|y|z] \\
-        [--weights DCG|BLENDER|ENVELOPE|NONE] [--bone-detail 0.5] [--tau 0.85 ...]
+        [--weights DCG|BLENDER|ENVELOPE|NONE] [--bone-detail 0.5] [--tau 0.85 ...] \\
+        [--off OUT.off]
 
 Every engine option is a flag (`--target-faces 20000`); `--help` lists them. `make rig`
 runs this on the bundled Spot. It goes through the add-on's own operators (dcg.load_mesh,
 object.dcg_auto_rig), so it checks the same path a user clicks. Exit status 0 on success, 1 with an
 "error: ..." line when anything fails, 2 for bad arguments.
+
+This is also the add-on's side of `dcg batch --glb` (the engine package launches Blender with
+this script and runs no Blender code of its own): `--glb` for the rigged model, and `--off`,
+which writes the imported mesh (one mesh, world space, triangles: what the rig operator sees)
+as OFF for the engine, and rigs nothing unless an output is asked for too.
 """
 
 import argparse
@@ -67,6 +73,8 @@ def _parser(engine_specs, addon_options):
     parser.add_argument("-o", "--output", help="write the rigged scene to this .blend file")
     parser.add_argument("--glb", help="export the rigged mesh and armature as glTF binary")
     parser.add_argument("--fbx", help="export the rigged mesh and armature as FBX")
+    parser.add_argument("--off", help="write the imported mesh (joined, world space, "
+                                      "triangulated) as OFF; alone, nothing is rigged")
     parser.add_argument("--png", help="render a picture of the rig (mesh in x-ray, bones "
                                       "colored by kind: end red, joint purple, connection blue)")
     parser.add_argument("--up", choices=("auto", "y", "z"), default="auto",
@@ -102,35 +110,17 @@ def _rig_mesh_object():
     return arm, mesh
 
 
-def main():
-    # Start from an empty scene (the factory one has a cube, a camera and a light).
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon = _load_addon().__name__
-    _engine, importing, options, picture, properties, rigging = (
-        importlib.import_module(f"{addon}.{name}")
-        for name in ("_engine", "importing", "options", "picture", "properties", "rigging"))
-    RigError = rigging.RigError
+def _write_off(path, V, F):
+    """Write the triangles (V #V by 3, F #F by 3) as an OFF file, coordinates exact."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)) or ".", exist_ok=True)
+    with open(path, "w", encoding="utf-8") as out:
+        out.write(f"OFF\n{len(V)} {len(F)} 0\n")
+        out.writelines(f"{x!r} {y!r} {z!r}\n" for x, y, z in V.tolist())
+        out.writelines(f"3 {a} {b} {c}\n" for a, b, c in F.tolist())
 
-    if _engine.error() is not None:
-        _fail(_engine.error())
-    args = _parser(properties.ENGINE_SPECS, options).parse_args(_script_args())
-    started = time.perf_counter()
-    mesh_path = os.path.abspath(args.mesh)
-    try:
-        importing.import_mesh_file(bpy.context, mesh_path, args.up.upper())
-    except (RigError, OSError, ValueError) as error:
-        _fail(str(error).strip())
-    engine_kwargs = {s.name: getattr(args, s.name) for s in properties.ENGINE_SPECS
-                     if getattr(args, s.name) is not None}
-    try:
-        bpy.ops.object.dcg_auto_rig(weights=args.weights, bone_detail=args.bone_detail, **engine_kwargs)
-    except RuntimeError as error:
-        _fail(str(error).strip())
-    arm_obj, mesh_obj = _rig_mesh_object()
-    if arm_obj is None or mesh_obj is None:
-        _fail("the rig operator finished without an armature bound to the mesh")
-    print(f"dcg: {mesh_obj.name}: {len(arm_obj.data.bones)} bones "
-          f"({', '.join(f'{k} {v:.3f} s' for k, v in arm_obj['dcg_timings'].items())})")
+
+def _write_outputs(args, picture, arm_obj, mesh_obj):
+    """Save the scene, export glTF and FBX, render the picture: those that `args` asks for."""
     for path in (args.output, args.glb, args.fbx, args.png):
         if path:
             os.makedirs(os.path.dirname(os.path.abspath(path)) or ".", exist_ok=True)
@@ -149,6 +139,44 @@ def main():
         picture.render_rig_picture(bpy.context, args.png, arm_obj, mesh_obj,
                                    tuple(args.resolution))
         print(f"dcg: wrote {args.png}")
+
+
+def main():
+    # Start from an empty scene (the factory one has a cube, a camera and a light).
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon = _load_addon().__name__
+    _engine, importing, mesh_io, options, picture, properties, rigging = (
+        importlib.import_module(f"{addon}.{name}") for name in (
+            "_engine", "importing", "mesh_io", "options", "picture", "properties", "rigging"))
+    RigError = rigging.RigError
+
+    if _engine.error() is not None:
+        _fail(_engine.error())
+    args = _parser(properties.ENGINE_SPECS, options).parse_args(_script_args())
+    started = time.perf_counter()
+    mesh_path = os.path.abspath(args.mesh)
+    try:
+        mesh_obj = importing.import_mesh_file(bpy.context, mesh_path, args.up.upper())
+    except (RigError, OSError, ValueError) as error:
+        _fail(str(error).strip())
+    if args.off:
+        _write_off(args.off, *mesh_io.evaluated_world_mesh(bpy.context, mesh_obj))
+        print(f"dcg: wrote {args.off}")
+        if not (args.output or args.glb or args.fbx or args.png):
+            return
+    engine_kwargs = {s.name: getattr(args, s.name) for s in properties.ENGINE_SPECS
+                     if getattr(args, s.name) is not None}
+    try:
+        bpy.ops.object.dcg_auto_rig(weights=args.weights, bone_detail=args.bone_detail,
+                                    **engine_kwargs)
+    except RuntimeError as error:
+        _fail(str(error).strip())
+    arm_obj, mesh_obj = _rig_mesh_object()
+    if arm_obj is None or mesh_obj is None:
+        _fail("the rig operator finished without an armature bound to the mesh")
+    print(f"dcg: {mesh_obj.name}: {len(arm_obj.data.bones)} bones "
+          f"({', '.join(f'{k} {v:.3f} s' for k, v in arm_obj['dcg_timings'].items())})")
+    _write_outputs(args, picture, arm_obj, mesh_obj)
     print(f"dcg: done in {time.perf_counter() - started:.2f} s")
 
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import bpy
 
-from . import armature, bones, mesh_io, preview, weights
+from . import _engine, armature, mesh_io, preview, weights
 
 
 class RigError(Exception):
@@ -85,7 +85,7 @@ def apply_rig(context, mesh_obj, skeleton, weight_method="DCG", bone_detail=0.5,
     new armature is deleted and the earlier binding (vertex groups, modifiers, parent) is
     restored, then the exception propagates.
     """
-    plan = bones.plan_bones(skeleton, bone_detail)
+    plan = _engine.require().bones.plan_bones(skeleton, bone_detail)  # the package's planner
     if not plan:
         raise RigError(f"the skeleton of {mesh_obj.name} has no bones "
                        f"({len(skeleton.positions)} nodes, {len(skeleton.links)} links)")

@@ -32,7 +32,7 @@ from typing import Any, Callable, Dict, Optional, Tuple
 
 import numpy as np
 
-from . import _core
+from . import _core, bones  # noqa: F401  (dcg.bones: the bone planner)
 from .options import OPTIONS, SKELETON_OPTIONS, OptionInfo, normalize_options
 from .skeleton import FORMAT, Skeleton
 from .weights import SkinWeights, skin_weights

@@ -7,7 +7,7 @@ import argparse
 import sys
 from typing import List, Optional
 
-from . import OPTIONS, extract_skeleton, load_mesh
+from . import OPTIONS, bones, extract_skeleton, load_mesh
 from .options import SKELETON_OPTIONS
 
 
@@ -59,8 +59,13 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_argument("--retries", type=int, default=2,
                        help="times a task is retried when it raises (default 2)")
     batch.add_argument("--blender", help="Blender executable (default $BLENDER or blender)")
-    batch.add_argument("--blender-cli", help="the add-on's cli.py (default $DCG_BLENDER_CLI, "
-                       "else found beside the dcg package)")
+    batch.add_argument("--blender-cli", help="the add-on's headless entry point, "
+                       "dcg_rig/cli.py (default $DCG_BLENDER_CLI, else the dcg_rig add-on "
+                       "installed in that Blender)")
+    batch.add_argument("--bone-detail", type=float, default=bones.BONE_DETAIL,
+                       help="the bone plan's detail, 0 (a bone per link) to 1 (a bone per "
+                       "polyline segment), for the .weights.npz and the .glb alike (default "
+                       f"{bones.BONE_DETAIL}, the add-on's)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     _add_option_flags(batch, OPTIONS)
     return parser
@@ -75,7 +80,8 @@ def run_batch(args: argparse.Namespace) -> int:
                             workers=args.workers, glb=args.glb, force=args.force,
                             retry_failed=args.retry_failed, blender=args.blender,
                             blender_cli=args.blender_cli, timeout=args.timeout,
-                            retries=args.retries, progress=None if args.quiet else sys.stderr)
+                            retries=args.retries, bone_detail=args.bone_detail,
+                            progress=None if args.quiet else sys.stderr)
     except batch.BatchError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2

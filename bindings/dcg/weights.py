@@ -3,12 +3,12 @@
     import dcg
     V, F = dcg.load_mesh("hand.obj")
     skeleton = dcg.extract_skeleton(V, F)
-    weights = dcg.skin_weights(V, F, skeleton)            # one bone per polyline segment
+    weights = dcg.skin_weights(V, F, skeleton)            # the bones of dcg.bones.plan_bones
     rows, cols, values = weights                           # sparse triplets (numpy)
     W = weights.dense()                                    # #V x #B, rows sum to 1
 
-    # the add-on's bones (any objects with .head and .tail), or explicit heads and tails:
-    weights = dcg.skin_weights(V, F, plan)                 # plan = bones.plan_bones(skeleton)
+    # a bone plan (any objects with .head and .tail), or explicit heads and tails:
+    weights = dcg.skin_weights(V, F, dcg.bones.plan_bones(skeleton, bone_detail=1.0))
     weights = dcg.skin_weights(V, F, heads, tails, max_influences=4)
 
     # reuse stage 0 of an Extractor on the same mesh (no second remeshing):
@@ -29,6 +29,7 @@ from typing import Callable, Dict, Iterator, Optional, Tuple
 import numpy as np
 
 from . import _core
+from .bones import bone_arrays, plan_bones
 from .options import normalize_options
 
 @dataclass
@@ -82,19 +83,6 @@ class SkinWeights:
             timings={name: float(s) for name, s in d["timings"]})
 
 
-def skeleton_bones(skeleton) -> Tuple[np.ndarray, np.ndarray]:
-    """(heads, tails) #B x 3: one bone per segment of every link polyline, link by link, each
-    polyline from links[l, 0] to links[l, 1]."""
-    heads, tails = [], []
-    for polyline in skeleton.polylines:
-        p = np.asarray(polyline, dtype=np.float64).reshape(-1, 3)
-        heads.append(p[:-1])
-        tails.append(p[1:])
-    if not heads:
-        return np.zeros((0, 3)), np.zeros((0, 3))
-    return np.concatenate(heads), np.concatenate(tails)
-
-
 def _points(name, array) -> np.ndarray:
     try:
         array = np.ascontiguousarray(array, dtype=np.float64)
@@ -112,7 +100,8 @@ def _bones(bones, tails) -> Tuple[np.ndarray, np.ndarray]:
     if tails is not None:
         heads, tails = _points("heads", bones), _points("tails", tails)
     elif hasattr(bones, "polylines") and hasattr(bones, "links"):
-        heads, tails = skeleton_bones(bones)
+        plan = bone_arrays(plan_bones(bones))
+        heads, tails = plan["heads"], plan["tails"]
     else:
         try:
             items = list(bones)
@@ -137,9 +126,10 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
                  **options) -> SkinWeights:
     """Bone heat skinning weights of the vertices of (V #V x 3, F #F x 3).
 
-    bones: a #B x 3 array of heads with `tails` (#B x 3), or a dcg.Skeleton (one bone per
-    polyline segment, see skeleton_bones), or a list of objects with .head and .tail (the
-    add-on's bone plan). Bones are in V's coordinates. Column b of the result is bone b.
+    bones: a #B x 3 array of heads with `tails` (#B x 3), or a dcg.Skeleton (its bones as
+    dcg.bones.plan_bones plans them at the default bone_detail: the add-on's and the batch's
+    bones, in plan order), or a list of objects with .head and .tail (a plan of another
+    bone_detail). Bones are in V's coordinates. Column b of the result is bone b.
 
     prepared: a dcg.PreparedMesh of this same (V, F) (Extractor.prepare()) to reuse instead of
     running stage 0 again. options: any of dcg.OPTIONS; the weights use max_influences (4),

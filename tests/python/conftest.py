@@ -23,6 +23,17 @@ def meshes_dir() -> Path:
     return path
 
 
+def shared_skeleton(V, F, name, **options):
+    """dcg.extract_skeleton(V, F, **options) of the shared mesh `name`, checked to be a DCG
+    skeleton: the engine's fallback (method "interim_graph (fallback: ...)") must not pass a
+    test on a shared mesh silently."""
+    import dcg
+
+    skeleton = dcg.extract_skeleton(V, F, **options)
+    assert skeleton.method == "dcg", f"{name}: the engine fell back: {skeleton.method}"
+    return skeleton
+
+
 def cube(open_faces: int = 0):
     """A closed unit cube (8 vertices, 12 outward triangles); drop the last `open_faces`."""
     V = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)

@@ -1,8 +1,7 @@
-"""The add-on's modules that need no Blender (bones, options, skinning, geometry, worker),
+"""The add-on's modules that need no Blender (options, skinning, geometry, worker),
 tested with plain Python so that their logic is checked without starting Blender."""
 
 import sys
-import types
 from pathlib import Path
 
 import numpy as np
@@ -10,69 +9,9 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
 
-from dcg_rig import bones, geometry, options, skinning, worker  # noqa: E402
+from dcg_rig import geometry, options, skinning, worker  # noqa: E402
 
 import dcg  # noqa: E402
-
-
-def skeleton_of(positions, kinds, links, polylines=None, root=0, radii=None):
-    positions = np.asarray(positions, dtype=float)
-    if polylines is None:
-        polylines = [positions[[a, b]] for a, b in links]
-    return types.SimpleNamespace(
-        positions=positions, kinds=np.array(kinds), links=np.array(links),
-        polylines=[np.asarray(p, dtype=float) for p in polylines], root=root,
-        radii=np.full(len(positions), 0.1) if radii is None else np.asarray(radii))
-
-
-def y_shape():
-    """A root joint with three arms, the first arm a 4-point polyline."""
-    positions = [[0, 0, 0], [0, 0, 1], [1, 0, -1], [-1, 0, -1]]
-    polylines = [[[0, 0, 0], [0.1, 0, 0.3], [-0.1, 0, 0.6], [0, 0, 1]],
-                 [[0, 0, 0], [1, 0, -1]], [[0, 0, 0], [-1, 0, -1]]]
-    return skeleton_of(positions, ["joint", "end", "end", "end"], [[0, 1], [0, 2], [0, 3]],
-                       polylines)
-
-
-def test_plan_bones_one_chain_per_link_parents_first():
-    plan = bones.plan_bones(y_shape(), bone_detail=1.0)
-    assert len(plan) == 3 + 1 + 1
-    seen = set()
-    for spec in plan:
-        assert spec.parent is None or spec.parent in seen
-        seen.add(spec.name)
-    assert sorted(s.name for s in plan if s.kind == "end") == ["end.001", "end.002",
-                                                                "end.003"]
-    assert {s.node for s in plan if s.kind == "end"} == {1, 2, 3}
-    assert all(np.linalg.norm(s.tail - s.head) > 0 for s in plan)
-
-
-def test_bone_detail_zero_gives_one_bone_per_link():
-    plan = bones.plan_bones(y_shape(), bone_detail=0.0)
-    assert len(plan) == 3
-    assert all(s.parent is None for s in plan)  # all start at the root node
-
-
-def test_a_cycle_keeps_every_link_and_the_hierarchy_stays_a_tree():
-    ring = skeleton_of([[0, 0, 0], [1, 0, 0], [0, 1, 0]], ["joint"] * 3,
-                       [[0, 1], [1, 2], [2, 0]])
-    plan = bones.plan_bones(ring, bone_detail=0.0)
-    assert len(plan) == 3
-    names = {s.name: s for s in plan}
-    for spec in plan:  # following parents always ends at a root: no cycle
-        chain, current = set(), spec
-        while current.parent is not None:
-            assert current.name not in chain
-            chain.add(current.name)
-            current = names[current.parent]
-    assert sum(1 for s in plan if s.parent is not None and not s.use_connect) >= 1
-
-
-def test_simplify_polyline_keeps_ends_and_the_farthest_point():
-    points = np.array([[0, 0, 0], [1, 0.01, 0], [2, 1, 0], [3, 0, 0], [4, 0, 0]], float)
-    assert bones.simplify_polyline(points, 0.0) == [0, 4]
-    assert bones.simplify_polyline(points, 1.0) == [0, 1, 2, 3, 4]
-    assert bones.simplify_polyline(points, 0.34) == [0, 2, 4]
 
 
 def test_envelope_weights_are_normalized_with_at_most_four_influences():

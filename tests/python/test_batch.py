@@ -8,6 +8,7 @@ import os
 import shutil
 import signal
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -15,10 +16,10 @@ import numpy as np
 import pytest
 
 import dcg
-from conftest import cube, uv_sphere
+from conftest import cube, shared_skeleton, uv_sphere
 
 distributed = pytest.importorskip("distributed")
-from dcg import batch  # noqa: E402  (after the skip: it needs nothing from Dask to import)
+from dcg import batch, batch_blender  # noqa: E402  (after the skip: it needs no Dask to import)
 
 FAST = {"samples": 1000, "target_faces": 3000}
 FAST_FLAGS = ["--samples", "1000", "--target-faces", "3000"]
@@ -177,19 +178,41 @@ def test_a_worker_killed_mid_run_loses_nothing(repo, tmp_path, client):
         os.kill(killed[0], 0)
 
 
-def test_bones_chain_away_from_the_root(repo):
+def addon_bone_detail():
+    """The add-on's default bone detail (its bpy-free options module)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
+    try:
+        from dcg_rig import options
+    finally:
+        sys.path.pop(0)
+    return options.ADDON_DEFAULTS["bone_detail"]
+
+
+@pytest.mark.parametrize("bone_detail", [None, 0.0, 1.0])
+def test_the_npz_holds_the_bones_the_addon_makes(repo, bone_detail):
     V, F = dcg.load_mesh(repo / "data" / "spot.obj")
-    skeleton = dcg.extract_skeleton(V, F, **FAST)
-    bones = batch.bones_of(skeleton)
-    count = len(bones["names"])
-    assert count >= len(skeleton.links) > 0 and len(set(bones["names"])) == count
-    assert set(bones["links"].tolist()) == set(range(len(skeleton.links)))
-    for b, parent in enumerate(bones["parents"]):
-        assert parent < b
-        if parent >= 0:
-            assert np.allclose(bones["heads"][b], bones["tails"][parent])
-    roots = bones["heads"][bones["parents"] < 0]
-    assert np.allclose(roots, skeleton.positions[skeleton.root])  # one connected tree
+    skeleton = shared_skeleton(V, F, "spot.obj", **FAST)
+    detail = addon_bone_detail() if bone_detail is None else bone_detail
+    data, status = (batch.weights_npz(V, F, skeleton) if bone_detail is None else
+                    batch.weights_npz(V, F, skeleton, bone_detail=bone_detail))
+    assert status == "ok"
+    plan = dcg.bones.plan_bones(skeleton, detail)  # what rigging.apply_rig builds
+    with np.load(io.BytesIO(data)) as npz:
+        assert list(npz["bone_names"]) == [spec.name for spec in plan]
+        assert np.array_equal(npz["bone_heads"], [spec.head for spec in plan])
+        assert np.array_equal(npz["bone_tails"], [spec.tail for spec in plan])
+        parents = [None if p < 0 else str(npz["bone_names"][p]) for p in npz["bone_parents"]]
+        assert parents == [spec.parent for spec in plan]
+        assert list(npz["bone_kinds"]) == [spec.kind for spec in plan]
+        assert npz["weights"].shape == (len(V), len(plan))
+        # One tree chained away from the root: parents first, each head at its parent's tail.
+        for b, parent in enumerate(npz["bone_parents"]):
+            assert parent < b
+            if parent >= 0:
+                assert np.allclose(npz["bone_heads"][b], npz["bone_tails"][parent])
+        roots = npz["bone_heads"][npz["bone_parents"] < 0]
+        assert np.allclose(roots, skeleton.positions[skeleton.root])
+        assert set(npz["bone_links"].tolist()) == set(range(len(skeleton.links)))
 
 
 def test_weights_npz_says_unavailable_instead_of_making_weights_up(repo, monkeypatch):
@@ -253,7 +276,24 @@ def write_gltf(path, V, F):
     path.write_text(json.dumps(doc))
 
 
-@pytest.mark.skipif(shutil.which("blender") is None, reason="Blender is not installed")
+def glb_joints(glb: bytes):
+    """{joint name: parent joint name or None} of the first skin of a glTF binary."""
+    length = int.from_bytes(glb[12:16], "little")
+    assert glb[16:20] == b"JSON"
+    doc = json.loads(glb[20:20 + length])
+    nodes = doc["nodes"]
+    joints = doc["skins"][0]["joints"]
+    parent_of = {child: index for index, node in enumerate(nodes)
+                 for child in node.get("children", ())}
+    return {nodes[j]["name"]: nodes[parent_of[j]]["name"] if parent_of.get(j) in joints
+            else None for j in joints}
+
+
+NO_BLENDER = pytest.mark.skipif(shutil.which("blender") is None,
+                                reason="Blender is not installed")
+
+
+@NO_BLENDER
 def test_glb_rigs_in_blender_and_reads_gltf_input(repo, tmp_path, client):
     library = tmp_path / "in"
     library.mkdir()
@@ -262,7 +302,8 @@ def test_glb_rigs_in_blender_and_reads_gltf_input(repo, tmp_path, client):
     write_gltf(library / "blob.gltf", V * [1.0, 1.0, 2.0], F)
     out = tmp_path / "out"
     started = time.perf_counter()
-    summary = batch.run(library, out, options=FAST, glb=True, client=client, progress=None)
+    summary = batch.run(library, out, options=FAST, glb=True, client=client, progress=None,
+                        blender_cli=str(repo / "addon" / "dcg_rig" / "cli.py"))
     records = {r["path"]: r for r in read_lines(out / "index.jsonl")}
     assert summary.ok == 2, records
     for path in ("torus.off", "blob.gltf"):
@@ -270,7 +311,34 @@ def test_glb_rigs_in_blender_and_reads_gltf_input(repo, tmp_path, client):
         assert glb[:4] == b"glTF" and records[path]["outputs"]["glb"] == path + ".glb"
         assert json.loads((out / (path + ".json")).read_text())["nodes"]
     assert records["blob.gltf"]["faces"] == len(F)
+    # The glTF input reaches the engine as the add-on's rig sees it (one world-space mesh):
+    # the .glb's bones and the .npz's are the same, names and parents.
+    with np.load(out / "blob.gltf.weights.npz") as npz:
+        names = [str(n) for n in npz["bone_names"]]
+        expected = {name: None if p < 0 else names[p]
+                    for name, p in zip(names, npz["bone_parents"])}
+    assert glb_joints((out / "blob.gltf.glb").read_bytes()) == expected
     assert time.perf_counter() - started < 120
+
+
+@NO_BLENDER
+def test_the_addon_cli_is_the_installed_addons_or_the_one_given(repo, tmp_path, monkeypatch):
+    monkeypatch.delenv(batch_blender.BLENDER_CLI_ENV, raising=False)
+    given = repo / "addon" / "dcg_rig" / "cli.py"
+    assert batch.find_addon_cli(str(given)) == given
+    with pytest.raises(batch.BatchError, match="does not exist"):
+        batch.find_addon_cli(str(tmp_path / "cli.py"))
+    # Nothing installed in a clean user folder: the error says how to give it.
+    monkeypatch.setenv("BLENDER_USER_SCRIPTS", str(tmp_path))
+    with pytest.raises(batch.BatchError, match="--blender-cli"):
+        batch.find_addon_cli()
+    assert "not installed" in batch.check_glb_tools(None, None)
+    # The legacy add-on of the build output, installed as BLENDER_USER_SCRIPTS installs it.
+    scripts = Path(dcg.__file__).resolve().parents[2] / "blender_scripts"
+    if not (scripts / "addons" / "dcg_rig" / "cli.py").is_file():
+        pytest.skip(f"no assembled add-on in {scripts}")
+    monkeypatch.setenv("BLENDER_USER_SCRIPTS", str(scripts))
+    assert batch.find_addon_cli() == (scripts / "addons" / "dcg_rig" / "cli.py").resolve()
 
 
 def test_a_model_that_keeps_killing_its_worker_is_a_failure_record():

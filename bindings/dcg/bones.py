@@ -1,4 +1,8 @@
-"""Plan the bones of an armature from a DCG skeleton (no `bpy`: plain pytest can test this).
+"""The bone plan of a DCG skeleton: the one planner behind the add-on's armature, the batch's
+.weights.npz and `dcg.skin_weights(V, F, skeleton)` (no `bpy`: plain pytest tests it).
+
+    plan = dcg.bones.plan_bones(skeleton, bone_detail=0.5)   # [BoneSpec], parents first
+    arrays = dcg.bones.bone_arrays(plan)   # names, heads, tails, parents (-1), links, kinds
 
 One chain of bones per link, following the link's polyline (simplified by `bone_detail`).
 Chains are laid out breadth-first from the skeleton's root: the chain of a link starts at
@@ -18,6 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 KINDS = ("end", "joint", "connection")
+#: The default `bone_detail` (the add-on's panel, its CLI and `dcg batch` start from it).
+BONE_DETAIL = 0.5
 
 
 @dataclass
@@ -114,7 +120,7 @@ def _traversal(skeleton):
                 yield index, node, other, tree
 
 
-def plan_bones(skeleton, bone_detail=0.5):
+def plan_bones(skeleton, bone_detail=BONE_DETAIL):
     """Return the list of BoneSpec for `skeleton`, parents before children.
 
     `skeleton` needs positions (#N by 3), kinds (#N), radii (#N), links (#L by 2),
@@ -160,3 +166,19 @@ def plan_bones(skeleton, bone_detail=0.5):
         if tree:
             tail_bone[stop] = parent
     return bones
+
+
+def bone_arrays(plan):
+    """The plan as arrays, in plan order: names (#B str), heads and tails (#B by 3 float64),
+    parents (#B int64 index into the plan, -1 at a root), links (#B int64, the skeleton link of
+    each bone) and kinds (#B str)."""
+    index = {spec.name: i for i, spec in enumerate(plan)}
+    return {
+        "names": np.array([spec.name for spec in plan], dtype=str),
+        "heads": np.array([spec.head for spec in plan], dtype=np.float64).reshape(-1, 3),
+        "tails": np.array([spec.tail for spec in plan], dtype=np.float64).reshape(-1, 3),
+        "parents": np.array([-1 if spec.parent is None else index[spec.parent]
+                             for spec in plan], dtype=np.int64),
+        "links": np.array([spec.link for spec in plan], dtype=np.int64),
+        "kinds": np.array([spec.kind for spec in plan], dtype=str),
+    }
