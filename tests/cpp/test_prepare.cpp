@@ -1,5 +1,6 @@
 // dcg/prepare.h (stage 0): validation errors, welding, repair of open and multi-part input,
-// remeshing, normalization, genus and the map back to the input vertices.
+// remeshing, normalization, genus and the map back to the input vertices; and its internal steps
+// (cpp/src): mesh topology and orientation, compaction, the fast decimator for huge inputs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,10 @@
 #include "dcg/prepare.h"
 #include "dcg/surface_query.h"
 #include "shapes.h"
+// Internal steps of stage 0 (not installed headers).
+#include "../../cpp/src/compact_mesh.h"
+#include "../../cpp/src/decimate.h"
+#include "../../cpp/src/mesh_topology.h"
 
 namespace {
 
@@ -361,5 +366,155 @@ TEST_P(OpenMeshFile, RepairAutoClosesItAndRepairNoneNamesTheProblem) {
 
 INSTANTIATE_TEST_SUITE_P(PublicMeshes, OpenMeshFile,
                          ::testing::Values("wolf-open.obj", "bunny-scan-open.obj"));
+
+// --- internal steps: topology, orientation, compaction, decimation -------------------------------
+
+// The unit tetrahedron (0, e_x, e_y, e_z), faces outward: volume 1/6.
+Mesh tetrahedron() {
+  return test::make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+                         {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
+}
+
+double signed_volume(const Mesh& m) {
+  double volume = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+    volume += a.dot(b.cross(c)) / 6.0;
+  }
+  return volume;
+}
+
+TEST(MeshTopology, CountsOfAClosedAndAnOpenTetrahedron) {
+  const Mesh tet = tetrahedron();
+  const dcg::internal::Topology closed = dcg::internal::analyze_topology(tet.V, tet.F);
+  EXPECT_EQ(closed.edges, 6);
+  EXPECT_EQ(closed.border_edges, 0);
+  EXPECT_EQ(closed.border_loops, 0);
+  EXPECT_EQ(closed.non_manifold_edges, 0);
+  EXPECT_EQ(closed.non_manifold_vertices, 0);
+  EXPECT_EQ(closed.components, 1);
+  EXPECT_EQ(closed.largest_hole, 0.0);
+  // Face 0 (0, 2, 1) meets face 1 (0, 1, 3) over its edge 1 -> 0, its third slot.
+  EXPECT_EQ(closed.neighbours[0][2], 1);
+  // Without the face on the slanted side: one hole, its extent the triangle's bounding box.
+  Mesh open = tet;
+  open.F.conservativeResize(3, 3);
+  const dcg::internal::Topology t = dcg::internal::analyze_topology(open.V, open.F);
+  EXPECT_EQ(t.edges, 6);
+  EXPECT_EQ(t.border_edges, 3);
+  EXPECT_EQ(t.border_loops, 1);
+  EXPECT_NEAR(t.largest_hole, std::sqrt(3.0), 1e-15);
+  EXPECT_EQ(t.neighbours[0][2], 1);
+  EXPECT_EQ(std::count(t.neighbours[0].begin(), t.neighbours[0].end(), -1), 1);
+}
+
+TEST(MeshTopology, NonManifoldEdgesVerticesAndComponents) {
+  // Three triangles on one edge 0-1.
+  const Mesh fin = test::make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
+                                   {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  const dcg::internal::Topology t = dcg::internal::analyze_topology(fin.V, fin.F);
+  EXPECT_EQ(t.non_manifold_edges, 1);
+  EXPECT_EQ(t.border_edges, 6);
+  EXPECT_EQ(t.components, 1);
+  // Two tetrahedra touching at one vertex: a pinched vertex, two components over edges.
+  Mesh two = test::merged(tetrahedron(),
+                          test::transformed(tetrahedron(), -Eigen::Matrix3d::Identity(), 1.0));
+  two.F = (two.F.array() == 4).select(0, two.F.array()).matrix();  // share vertex 0 (= -0)
+  const dcg::internal::Topology p = dcg::internal::analyze_topology(two.V, two.F);
+  EXPECT_EQ(p.non_manifold_vertices, 1);
+  EXPECT_EQ(p.non_manifold_edges, 0);
+  EXPECT_EQ(p.border_edges, 0);
+  EXPECT_EQ(p.components, 2);
+  EXPECT_EQ(p.component[0], 0);
+  EXPECT_EQ(p.component[4], 1);
+}
+
+TEST(MeshTopology, OrientOutwardFlipsInconsistentAndInwardFaces) {
+  Mesh tet = tetrahedron();
+  std::swap(tet.F(2, 1), tet.F(2, 2));  // one face the wrong way
+  dcg::internal::Topology t = dcg::internal::analyze_topology(tet.V, tet.F);
+  dcg::internal::Orientation o = dcg::internal::orient_outward(tet.V, tet.F, t);
+  EXPECT_TRUE(o.orientable);
+  EXPECT_TRUE(test::is_closed_oriented_manifold(tet));
+  EXPECT_NEAR(signed_volume(tet), 1.0 / 6, 1e-15);
+  // All faces inward: flipped as one component.
+  tet.F.col(1).swap(tet.F.col(2));
+  o = dcg::internal::orient_outward(tet.V, tet.F, dcg::internal::analyze_topology(tet.V, tet.F));
+  EXPECT_NEAR(signed_volume(tet), 1.0 / 6, 1e-15);
+  EXPECT_NEAR(o.enclosed_volume, 1.0 / 6, 1e-15);
+  // A Moebius strip of 6 quads cannot be oriented.
+  std::vector<Eigen::Vector3d> V;
+  std::vector<std::array<int, 3>> F;
+  const int n = 6;
+  for (int i = 0; i < n; ++i) {
+    const double u = 2 * M_PI * i / n;
+    V.emplace_back(std::cos(u), std::sin(u), 0.3);   // 2i: top
+    V.emplace_back(std::cos(u), std::sin(u), -0.3);  // 2i + 1: bottom
+  }
+  for (int i = 0; i < n; ++i) {
+    const int a = 2 * i, b = 2 * i + 1;
+    // The last quad joins top to bottom: the half twist.
+    const int c = i + 1 < n ? 2 * i + 2 : 1, d = i + 1 < n ? 2 * i + 3 : 0;
+    F.push_back({a, b, d});
+    F.push_back({a, d, c});
+  }
+  Mesh strip = test::make_mesh(V, F);
+  t = dcg::internal::analyze_topology(strip.V, strip.F);
+  EXPECT_EQ(t.border_loops, 1);  // a Moebius strip has one boundary
+  EXPECT_FALSE(dcg::internal::orient_outward(strip.V, strip.F, t).orientable);
+}
+
+TEST(MeshTopology, FoldedEdgesAndGenusOfOpenMeshes) {
+  EXPECT_EQ(dcg::internal::folded_edges(test::icosphere(1)), 0);
+  // Two copies of one triangle, back to back: closed, every edge folded flat.
+  const Mesh pillow = test::make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 1}});
+  EXPECT_EQ(dcg::internal::folded_edges(pillow), 3);
+  // Holes do not change the genus: a torus without one face, a sphere without its cap.
+  Mesh torus = test::torus(1.0, 0.3, 16, 8);
+  torus.F.conservativeResize(torus.F.rows() - 1, 3);
+  EXPECT_EQ(dcg::mesh_genus(torus), 1);
+  EXPECT_EQ(dcg::internal::analyze_topology(torus.V, torus.F).border_loops, 1);
+  EXPECT_EQ(dcg::mesh_genus(test::cut_above(test::icosphere(3), 0.8)), 0);
+  EXPECT_EQ(dcg::mesh_genus(test::cut_above(test::torus(1.0, 0.3), 0.0)), 0);  // an annulus
+}
+
+TEST(CompactMesh, KeepsTheUsedVerticesInOrderOfFirstUse) {
+  dcg::Vertices V(5, 3);
+  for (int i = 0; i < 5; ++i) V.row(i) << i, 0, 0;
+  std::vector<int> index;
+  const Mesh m = dcg::internal::compact_mesh(V, {{4, 2, 0}, {0, 2, 3}}, &index);
+  EXPECT_EQ(index, (std::vector<int>{2, -1, 1, 3, 0}));
+  ASSERT_EQ(m.V.rows(), 4);
+  EXPECT_EQ(m.V(0, 0), 4);
+  EXPECT_EQ(m.V(3, 0), 3);
+  EXPECT_EQ(m.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(m.F.row(1), Eigen::RowVector3i(2, 1, 3));
+}
+
+TEST(Decimate, FastReduceReachesItsGoalAndStaysAClosedManifold) {
+  const Mesh sphere = test::icosphere(6);  // 81,920 faces
+  std::vector<double> fractions;
+  const Mesh m =
+      dcg::internal::fast_reduce(sphere, 20000, [&](double f) { fractions.push_back(f); });
+  // Each collapse removes two faces; it stops as soon as it is at the goal.
+  EXPECT_LE(m.F.rows(), 20000);
+  EXPECT_GE(m.F.rows(), 19998);
+  EXPECT_EQ(m.V.rows(), m.F.rows() / 2 + 2);  // a closed genus-0 mesh, no vertex left unused
+  EXPECT_TRUE(test::is_closed_oriented_manifold(m));
+  EXPECT_EQ(dcg::mesh_genus(m), 0);
+  EXPECT_GT(signed_volume(m), 0);
+  // Midpoints of short edges stay near the sphere.
+  const Eigen::VectorXd radius = m.V.rowwise().norm();
+  EXPECT_GT(radius.minCoeff(), 0.99);
+  EXPECT_LE(radius.maxCoeff(), 1.0 + 1e-12);
+  EXPECT_FALSE(fractions.empty());
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  // A torus keeps its handle.
+  const Mesh torus = test::torus(1.0, 0.35, 200, 100);  // 40,000 faces
+  const Mesh t = dcg::internal::fast_reduce(torus, 5000);
+  EXPECT_LE(t.F.rows(), 5000);
+  EXPECT_TRUE(test::is_closed_oriented_manifold(t));
+  EXPECT_EQ(dcg::mesh_genus(t), 1);
+}
 
 }  // namespace
