@@ -11,7 +11,7 @@ OUT ?= out
 CMAKE_FLAGS ?=
 export DCG_MESHES ?= $(abspath ../shared/meshes)
 
-.PHONY: all deps build build-rig rig test addon wheel extension bench fuzz clean
+.PHONY: all deps build build-rig rig test addon wheel extension bench fuzz format clean
 
 all: build
 
@@ -36,6 +36,11 @@ rig: build-rig
 	DCG_PYTHONPATH=$(abspath $(BUILD))/python $(BLENDER) -b --factory-startup \
 	  --python addon/dcg_rig/cli.py -- $(MESH) -o $(OUT)/$(MODEL).blend \
 	  --glb $(OUT)/$(MODEL).glb --fbx $(OUT)/$(MODEL).fbx --png $(OUT)/$(MODEL).png
+
+# clang-format (one pinned version, scripts/clang-format.sh) over the C++ sources; `make test`
+# checks that nothing would change.
+format:
+	@bash scripts/clang-format.sh
 
 # Every suite (ctest, pytest, Blender); one closing line "N passed, N failed, N skipped".
 test: build extension

@@ -18,6 +18,12 @@ export DCG_MESHES=${DCG_MESHES:-$(realpath -m "$ROOT/../shared/meshes")}
 # CI run shows where its time went.
 header() { echo "== $1 [at ${SECONDS} s]"; }
 
+# The C++ sources as clang-format (the pinned version of scripts/clang-format.sh) writes them:
+# suite `format`, one test per file.
+header "Format (clang-format)"
+bash scripts/clang-format.sh --check "$RESULTS/format.xml" 2>"$RESULTS/format.log" ||
+  tail -3 "$RESULTS/format.log"
+
 header "C++ tests (ctest)"
 ctest --test-dir "$BUILD" --output-on-failure -j2 --output-junit "$RESULTS/cpp.xml"
 
@@ -26,7 +32,7 @@ ctest --test-dir "$BUILD" --output-on-failure -j2 --output-junit "$RESULTS/cpp.x
 # under many random rotations, scales and noise draws are left out here: they run above, and
 # under the sanitizers they added four minutes without new code paths. SANITIZE=0 skips this
 # suite (for quick local runs; CI runs it).
-SUMMARY_FILES=("$RESULTS/cpp.xml")
+SUMMARY_FILES=("$RESULTS/format.xml" "$RESULTS/cpp.xml")
 if [ "${SANITIZE:-1}" != 0 ]; then
   header "C++ tests under ASan + UBSan (build, then run)"
   ASAN_BUILD="$BUILD-asan"
