@@ -27,6 +27,18 @@ def test_dcg_is_the_default_weights_method_of_the_panel_and_the_operator():
         assert rna.properties["weights"].default == "DCG"
 
 
+def test_the_weights_options_of_the_panel_reach_the_engine(repo):
+    # The engine's weights options (dcg.OPTIONS, stage "weights") are settings of the add-on,
+    # drawn under "DCG weights"; one influence per vertex is something the default never gives.
+    settings = bpy.context.scene.dcg_rig
+    assert settings.bl_rna.properties["max_influences"].default == 4
+    bpy.ops.dcg.load_mesh(filepath=str(repo / "data" / "spot.obj"))
+    obj = bpy.context.active_object
+    assert rig(weights="DCG", max_influences=1) == {"FINISHED"}
+    check_weighted(obj, max_influences=1)
+    assert all(len(v.groups) == 1 for v in obj.data.vertices)
+
+
 @pytest.mark.parametrize("scale", [0.01, 1.0])
 def test_dcg_weights_every_vertex_of_spot(repo, scale):
     bpy.ops.dcg.load_mesh(filepath=str(repo / "data" / "spot.obj"))
