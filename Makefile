@@ -77,8 +77,12 @@ addon: build
 # whole pipeline on a 1.4M-face subdivided armadillo, time and peak RSS (out/bench/big.md);
 # then `dcg batch` models per minute with 1 and 2 workers: out/bench/batch.md; our skinning
 # weights against Blender's bone heat on the same armatures (out/bench/weights.md, and spot at
-# scales 0.01 and 100 in weights-scaled.md). Not part of `make test`.
+# scales 0.01 and 100 in weights-scaled.md); on the artist-rigged characters of RIGGED, our
+# skeleton's chamfer distances to the artists' (out/bench/rig-quality.md) and our weights and
+# bone heat against the artists' weights on their skeletons (out/bench/weights-quality.md).
+# Not part of `make test`.
 MESHES ?= ../shared/meshes
+RIGGED ?= $(DCG_MESHES)/rigged
 # The mesh files of MESHES (folders expanded), for the scripts that take files.
 BENCH_FILES = $(sort $(foreach m,$(MESHES),$(if $(wildcard $(m)/.),$(wildcard $(addprefix $(m)/*.,obj off ply stl)),$(m))))
 bench: build
@@ -92,6 +96,10 @@ bench: build
 	  --out $(OUT)/bench/weights.md $(BENCH_FILES)
 	$(BLENDER) -b --factory-startup --python scripts/bench_weights.py -- --pythonpath $(BUILD)/python \
 	  --out $(OUT)/bench/weights-scaled.md --scale 0.01 --scale 100 data/spot.obj
+	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_rig_quality.py --rigged $(RIGGED) \
+	  --out $(OUT)/bench/rig-quality.md
+	$(BLENDER) -b --factory-startup --python-exit-code 1 --python scripts/bench_weights_quality.py \
+	  -- --pythonpath $(BUILD)/python --rigged $(RIGGED) --out $(OUT)/bench/weights-quality.md
 
 clean:
 	rm -rf $(BUILD) $(OUT)

@@ -1,0 +1,91 @@
+#!/usr/bin/python3
+"""Our skeleton against the artists' on the rigged characters (make bench):
+
+    PYTHONPATH=build/python /usr/bin/python3 scripts/bench_rig_quality.py \\
+        [--rigged ../shared/meshes/rigged] [--out out/bench/rig-quality.md]
+
+Per character (NAME.obj + NAME.rig.txt): dcg.extract_skeleton with the default options, its
+bones as the add-on plans them (dcg.bones.plan_bones, default bone_detail; our joints are the
+bones' heads and tails) against the artist's joints and parent-child bones: CD-J2J, CD-J2B and
+CD-B2B (dcg.metrics.skeleton_metrics) in % of the mesh's longest bounding-box side, the bone
+counts and the engine's method. Writes the Markdown table to --out (and prints it) and one
+JSON line per character to the same path with .jsonl.
+"""
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import quality_tables
+
+#: Published figures (MagicArticulate and Puppeteer papers; Pinocchio as they report it).
+REFERENCES = [
+    {"name": "Puppeteer (published)", "cd_j2j": 3.785, "cd_j2b": 2.847, "cd_b2b": 2.430},
+    {"name": "MagicArticulate (published)", "cd_j2j": 4.003, "cd_j2b": 3.026, "cd_b2b": 2.586},
+    {"name": "RigNet (published)", "cd_j2j": 4.143, "cd_j2b": 2.961, "cd_b2b": 2.675},
+    {"name": "Pinocchio (published)", "cd_j2j": 8.36},
+    {"name": "ours, earlier figures on this set (issue)", "cd_j2j": 4.69, "cd_j2b": 3.35,
+     "cd_b2b": 3.67},
+]
+METRICS = ["cd_j2j", "cd_j2b", "cd_b2b"]
+COLUMNS = [("character", "name", ""), ("CD-J2J %", "cd_j2j", ".3f"),
+           ("CD-J2B %", "cd_j2b", ".3f"), ("CD-B2B %", "cd_b2b", ".3f"),
+           ("our bones", "bones", "d"), ("their bones", "their_bones", "d"),
+           ("method", "method", ""), ("seconds", "seconds", ".2f")]
+
+
+def measure(name, obj, rig_path, bone_detail) -> dict:
+    """One character's row."""
+    import dcg
+    from dcg import bones, metrics
+
+    V, F = dcg.load_mesh(obj)
+    rig = metrics.read_rig_info(rig_path, len(V))
+    start = time.perf_counter()
+    skeleton = dcg.extract_skeleton(V, F)
+    seconds = time.perf_counter() - start
+    plan = bones.bone_arrays(bones.plan_bones(skeleton, bone_detail))
+    row = {"name": name, "vertices": len(V), "bones": len(plan["heads"]),
+           "their_bones": len(rig.joints), "method": skeleton.method, "seconds": seconds}
+    row.update(metrics.skeleton_metrics(V, plan["heads"], plan["tails"], rig.joints,
+                                        rig.parents))
+    return row
+
+
+def main():
+    from dcg import bones, metrics
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rigged", type=Path, default=quality_tables.default_rigged())
+    parser.add_argument("--out", type=Path,
+                        default=quality_tables.ROOT / "out" / "bench" / "rig-quality.md")
+    parser.add_argument("--bone-detail", type=float, default=bones.BONE_DETAIL)
+    args = parser.parse_args()
+    characters = metrics.rigged_characters(args.rigged)
+    if not characters:
+        print(f"bench_rig_quality: no rigged characters in {args.rigged}; skipped",
+              file=sys.stderr)
+        return 0
+    rows = []
+    for name, obj, rig_path in characters:
+        rows.append(measure(name, obj, rig_path, args.bone_detail))
+        print(f"bench_rig_quality: {rows[-1]}", file=sys.stderr, flush=True)
+    mean = quality_tables.mean_row(rows, METRICS + ["bones", "their_bones", "seconds"])
+    mean["name"] = f"**mean of {len(rows)}**"
+    lines = quality_tables.header("Skeleton quality: our bones against the artists' skeletons")
+    lines += [f"Characters of `{args.rigged}`. Ours: `dcg.extract_skeleton` (defaults), bones of "
+              f"`dcg.bones.plan_bones` (bone_detail {args.bone_detail:g}); our joints are the "
+              "bones' distinct heads and tails. Theirs: the rig's joints, bones from each parent "
+              "to each child. Chamfer distances (`dcg.metrics`) in % of the mesh's longest "
+              "bounding-box side; CD-B2B samples both bone sets 0.5% of that side apart. "
+              "'their bones': one per joint (the weights protocol).", ""]
+    lines += quality_tables.table(COLUMNS, rows + [mean])
+    lines += ["", "Reference rows (other sets: MagicArticulate's Articulation-XL / ModelsResource "
+              "figures as the papers give them; not measured here):", ""]
+    lines += quality_tables.table([("method", "name", "")] + COLUMNS[1:4], REFERENCES)
+    quality_tables.write(args.out, lines, rows)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
