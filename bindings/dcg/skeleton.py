@@ -107,8 +107,9 @@ Skeleton = make_dataclass(
     "Skeleton", [(name, Any) for name in FIELDS]
     + [("options", Dict[str, Any], field(default_factory=dict))],
     bases=(_SkeletonMethods,), namespace={"__module__": __name__})
-Skeleton.__doc__ = f"""A DCG skeleton in the input mesh's coordinates: a plain dataclass (picklable,
-made without the engine by from_dict / from_json) of the engine's dcg::Skeleton fields
-({", ".join(FIELDS)}; cpp/include/dcg/skeleton.h documents them: positions #N x 3 float64,
-kinds #N str, links #L x 2 int64, face_labels #F int64, timings stage -> seconds, ...) and the
-options that made it."""
+Skeleton.__doc__ = f"""A DCG skeleton in the input mesh's coordinates.
+
+A plain dataclass (picklable, made without the engine by from_dict / from_json) of the engine's
+dcg::Skeleton fields ({", ".join(FIELDS)}; cpp/include/dcg/skeleton.h documents them:
+positions #N x 3 float64, kinds #N str, links #L x 2 int64, face_labels #F int64, timings
+stage -> seconds, ...) and the options that made it."""
