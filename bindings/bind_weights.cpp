@@ -1,8 +1,9 @@
 // Stage 9 (dcg/weights.h) for Python: skin_weights from the input mesh, or from a stage-0 result
-// the caller already has. Options come as one dict of public names (dcg/options.h): the weights'
-// own and stage 0's; the skeleton's are accepted and unused. The Python layer (bindings/dcg/weights.py) validates the arrays and
-// turns bones given as a skeleton or a bone list into heads and tails.
-#include "common.h"
+// the caller already has; the SkinWeights result; BoneHeat (precompute once, solve for many bone
+// sets). Options come as one dict of public names (dcg/options.h): the weights' own and stage
+// 0's; the skeleton's are accepted and unused. The Python layer (bindings/dcg/weights.py)
+// validates the arrays and turns bones given as a skeleton or a bone list into heads and tails.
+#include "result_class.h"
 
 #include "dcg/errors.h"
 #include "dcg/pipeline.h"
@@ -19,37 +20,70 @@ dcg::Bones make_bones(const dcg::Points& heads, const dcg::Points& tails) {
   return bones;
 }
 
-py::dict weights_dict(const dcg::SkinWeights& w) {
-  py::dict d;
-  d["rows"] = to_int64(w.rows);
-  d["cols"] = to_int64(w.cols);
-  d["values"] = w.values;
-  d["vertex_count"] = w.vertex_count;
-  d["bone_count"] = w.bone_count;
-  d["working_vertices"] = w.working_vertices;
-  d["unseen_vertices"] = w.unseen_vertices;
-  d["blind_components"] = w.blind_components;
-  d["fallback_vertices"] = w.fallback_vertices;
-  d["timings"] = py::cast(w.timings);
-  return d;
+void bind_skin_weights_class(py::module_& m) {
+  using W = dcg::SkinWeights;
+  ResultClass<W>(m, "SkinWeights",
+                 "Per-vertex bone weights as sparse triplets (dcg/weights.h); unpacks as (rows, "
+                 "cols, values).")
+      .field("rows", &W::rows)
+      .field("cols", &W::cols)
+      .field("values", &W::values)
+      .field("vertex_count", &W::vertex_count)
+      .field("bone_count", &W::bone_count)
+      .field("working_vertices", &W::working_vertices)
+      .field("unseen_vertices", &W::unseen_vertices)
+      .field("blind_components", &W::blind_components)
+      .field("fallback_vertices", &W::fallback_vertices)
+      .field("timings", &W::timings)
+      .def("dense", &W::dense, "The #V x #B weight matrix.")
+      .def("__iter__", [](py::object self) {
+        return py::iter(py::make_tuple(self.attr("rows"), self.attr("cols"), self.attr("values")));
+      });
 }
 
-// Runs `compute` with the GIL released; a Python exception raised by the progress callable is
-// re-raised as itself.
-template <typename Compute>
-dcg::SkinWeights run(ProgressBridge& bridge, Compute compute) {
-  try {
-    py::gil_scoped_release release;
-    return compute(bridge.callback());
-  } catch (const dcg::Cancelled&) {
-    bridge.rethrow_if_failed();
-    throw;
-  }
+/// dcg::BoneHeat: precompute once on a closed mesh, solve for many bone sets.
+void bind_bone_heat(py::module_& m) {
+  using H = dcg::BoneHeat;
+  py::class_<H>(m, "BoneHeat")
+      .def(py::init([](const dcg::Vertices& V, const Faces64& F) {
+             dcg::Mesh mesh{V, to_faces(F, V.rows())};
+             py::gil_scoped_release release;
+             return std::make_unique<H>(mesh);
+           }),
+           py::arg("V"), py::arg("F"))
+      .def(
+          "solve",
+          [](const H& heat, const dcg::Points& heads, const dcg::Points& tails,
+             const py::dict& options, py::object progress) {
+            const dcg::WeightsOptions o = options_from_dict(options).weights;
+            const dcg::Bones bones = make_bones(heads, tails);
+            ProgressBridge bridge(std::move(progress));
+            return run_released(bridge, [&] {
+              return heat.solve(bones, o, dcg::Progress(bridge.callback()));
+            });
+          },
+          py::arg("heads"), py::arg("tails"), py::arg("options"),
+          py::arg("progress") = py::none(), "#V x #B weights of the mesh's vertices.")
+      .def(
+          "nearest_visible_bones",
+          [](const H& heat, const dcg::Points& heads, const dcg::Points& tails) {
+            Eigen::VectorXi bone;
+            Eigen::VectorXd distance;
+            {
+              py::gil_scoped_release release;
+              heat.nearest_visible_bones(make_bones(heads, tails), bone, distance);
+            }
+            return py::make_tuple(to_int64(bone), distance);
+          },
+          py::arg("heads"), py::arg("tails"))
+      .def_property_readonly("areas", &H::areas, py::return_value_policy::reference_internal);
 }
 
 }  // namespace
 
 void bind_weights(py::module_& m) {
+  bind_skin_weights_class(m);
+  bind_bone_heat(m);
   m.def(
       "skin_weights",
       [](const dcg::Vertices& V, const Faces64& F, const dcg::Points& heads,
@@ -58,13 +92,12 @@ void bind_weights(py::module_& m) {
         const dcg::Options o = options_from_dict(options);
         const dcg::Bones bones = make_bones(heads, tails);
         ProgressBridge bridge(std::move(progress));
-        return weights_dict(run(bridge, [&](dcg::ProgressCallback cb) {
-          return dcg::compute_skin_weights(V, faces, bones, o, std::move(cb));
-        }));
+        return run_released(
+            bridge, [&] { return dcg::compute_skin_weights(V, faces, bones, o, bridge.callback()); });
       },
       py::arg("V"), py::arg("F"), py::arg("heads"), py::arg("tails"), py::arg("options"),
       py::arg("progress") = py::none(),
-      "Bone heat weights of V's vertices (stage 0 runs first); a dict of triplets and counts.");
+      "Bone heat weights of V's vertices (stage 0 runs first), as SkinWeights.");
   m.def(
       "skin_weights_prepared",
       [](const dcg::Vertices& working_V, const Faces64& working_F, double scale,
@@ -90,9 +123,9 @@ void bind_weights(py::module_& m) {
         const dcg::WeightsOptions o = options_from_dict(options).weights;
         const dcg::Bones bones = make_bones(heads, tails);
         ProgressBridge bridge(std::move(progress));
-        return weights_dict(run(bridge, [&](dcg::ProgressCallback cb) {
-          return dcg::compute_skin_weights(prepared, bones, o, std::move(cb));
-        }));
+        return run_released(bridge, [&] {
+          return dcg::compute_skin_weights(prepared, bones, o, bridge.callback());
+        });
       },
       py::arg("working_V"), py::arg("working_F"), py::arg("scale"), py::arg("offset"),
       py::arg("map_face"), py::arg("map_barycentric"), py::arg("heads"), py::arg("tails"),

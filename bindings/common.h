@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "dcg/errors.h"
 #include "dcg/options.h"
 #include "dcg/progress.h"
 #include "dcg/types.h"
@@ -59,9 +60,23 @@ class ProgressBridge {
   std::optional<py::error_already_set> error_;  // what the callable raised
 };
 
+/// Runs `compute()` with the GIL released; a Python exception the progress callable of `bridge`
+/// raised (which cancelled the run) is re-raised as itself.
+template <typename Compute>
+auto run_released(ProgressBridge& bridge, Compute compute) -> decltype(compute()) {
+  try {
+    py::gil_scoped_release release;
+    return compute();
+  } catch (const dcg::Cancelled&) {
+    bridge.rethrow_if_failed();
+    throw;
+  }
+}
+
 void bind_io(py::module_& m);
 void bind_options(py::module_& m);
 void bind_weights(py::module_& m);
 void bind_pipeline(py::module_& m);
+void bind_results(py::module_& m);
 
 }  // namespace dcg_py

@@ -35,6 +35,7 @@ PYBIND11_MODULE(_core, m) {
   });
   dcg_py::bind_io(m);
   dcg_py::bind_options(m);
+  dcg_py::bind_results(m);
   dcg_py::bind_pipeline(m);
   dcg_py::bind_weights(m);
 }

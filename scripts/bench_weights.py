@@ -14,11 +14,11 @@ the same path with .jsonl.
 """
 
 import argparse
-import dataclasses
 import json
 import os
 import sys
 import time
+import types
 
 import bpy
 import numpy as np
@@ -124,8 +124,10 @@ def main():
             ours_unweighted = int(np.sum(np.bincount(w.rows, minlength=len(V)) == 0))
             # The same with the skeleton's stage 0 reused (what a caller holding the Extractor
             # pays): the working mesh is the same up to the scale.
-            prepared = dataclasses.replace(prepared0, scale=prepared0.scale * scale,
-                                           offset=prepared0.offset * scale)
+            prepared = types.SimpleNamespace(
+                vertices=prepared0.vertices, faces=prepared0.faces,
+                scale=prepared0.scale * scale, offset=prepared0.offset * scale,
+                map_face=prepared0.map_face, map_barycentric=prepared0.map_barycentric)
             reused = []
             for _ in range(max(1, args.repeat)):
                 start = time.perf_counter()

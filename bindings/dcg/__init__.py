@@ -13,6 +13,7 @@ Stage by stage (each result kept, as in the paper's Fig. 4):
     balls = ex.domain_balls()     # stages 1-2
     prongs = ex.prongs()          # stage 3: prong peaks and their significance
     fewer = ex.prongs(tau=0.7)    # re-thresholded, no new geodesics
+    prongs.hierarchy.prongs(0.7)  # the same from the kept ProngHierarchy (a slider's call)
     ends = ex.end_points()        # a stage-1 ball per prong that sees its peak
     field = ex.force_field()      # stage 4: F and |F| at the domain points (or at any points)
     points = ex.connection_points()  # stage 5: shrunk along the field, merged
@@ -21,27 +22,44 @@ Stage by stage (each result kept, as in the paper's Fig. 4):
     skeleton = ex.skeleton()
     print(ex.timings)             # [(stage, seconds), ...]
 
+Each result is the engine's own object, read-only (cpp/include/dcg/<stage>.h documents its
+fields); it keeps the extractor alive. skin_weights and BoneHeat (bone heat solved once per bone
+set on a precomputed mesh) are in dcg.weights.
+
 Errors: ValueError for bad data or options, OSError for unreadable files, dcg.Cancelled when a
 progress callback returns False. The heavy work runs with the GIL released.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, Callable, Dict, Optional, Tuple
+from typing import Callable, Optional, Tuple
 
 import numpy as np
 
 from . import _core, bones  # noqa: F401  (dcg.bones: the bone planner)
 from .options import OPTIONS, SKELETON_OPTIONS, OptionInfo, normalize_options
 from .skeleton import FORMAT, Skeleton
-from .weights import SkinWeights, skin_weights
+from .weights import BoneHeat, SkinWeights, skin_weights
+
+# The stages' results: engine objects, read-only, each field as its header documents it
+# (cpp/include/dcg/<stage>.h); arrays are float64 / int64 numpy arrays.
+PreparedMesh = _core.PreparedMesh
+Balls = _core.Balls
+DomainBalls = _core.DomainBalls
+Prongs = _core.Prongs
+ProngHierarchy = _core.ProngHierarchy
+EndPoints = _core.EndPoints
+FieldSamples = _core.FieldSamples
+Field = FieldSamples  # its former name
+ConnectionPoints = _core.ConnectionPoints
+DomainGraph = _core.DomainGraph
+Remapped = _core.Remapped
 
 __all__ = [
     "Cancelled", "Extractor", "OPTIONS", "OptionInfo", "Skeleton", "FORMAT", "Balls",
     "PreparedMesh", "Prongs", "extract_skeleton", "load_mesh", "as_mesh",
-    "SkinWeights", "skin_weights",
-    "Field", "ConnectionPoints", "DomainGraph", "Remapped",
+    "SkinWeights", "skin_weights", "BoneHeat", "ProngHierarchy", "DomainBalls", "EndPoints",
+    "Field", "FieldSamples", "ConnectionPoints", "DomainGraph", "Remapped",
 ]
 __version__ = "0.1.0"
 
@@ -80,141 +98,6 @@ def as_mesh(V, F) -> Tuple[np.ndarray, np.ndarray]:
     return V, np.ascontiguousarray(F, dtype=np.int64)
 
 
-@dataclass
-class PreparedMesh:
-    """Stage 0. vertices/faces: the working mesh in normalized units (input = v*scale+offset)."""
-
-    vertices: np.ndarray
-    faces: np.ndarray
-    scale: float
-    offset: np.ndarray
-    genus: int
-    repaired: bool
-    report: Dict[str, Any]
-    map_face: np.ndarray
-    map_barycentric: np.ndarray
-    remeshed: bool = False
-    wrap_alpha: float = 0.0
-
-
-@dataclass
-class Balls:
-    """Balls inside the shape, in normalized units. source: index among the stage-1 balls."""
-
-    centers: np.ndarray
-    radii: np.ndarray
-    source: Optional[np.ndarray] = None
-
-
-@dataclass
-class Prongs:
-    """Stage 3, in normalized units on the working mesh (PreparedMesh.vertices / faces).
-
-    vertices      #P int64 peak vertex of each prong in the working mesh, strongest first
-    positions     #P x 3 float64 peak positions (normalized units)
-    significance  #P float64 ratio valley / peak (lower = stronger), increasing
-    tau           the smoothness ratio they were selected with
-    The rest is filled by Extractor.prongs() without tau (None after re-thresholding):
-    scale_function  #V float64 f(v), mean geodesic distance to the surface (normalized units)
-    sources / source_weights  #S int64 geodesic sources and the area each stands for
-    peaks         dict of #K arrays over every local maximum of f, by increasing ratio:
-                  vertices, values, valleys, ratios, global (bool)
-    """
-
-    vertices: np.ndarray
-    positions: np.ndarray
-    significance: np.ndarray
-    tau: float
-    scale_function: Optional[np.ndarray] = None
-    sources: Optional[np.ndarray] = None
-    source_weights: Optional[np.ndarray] = None
-    peaks: Optional[Dict[str, np.ndarray]] = None
-
-    @staticmethod
-    def _from_core(d) -> "Prongs":
-        def opt(key, dtype=None):
-            return np.asarray(d[key], dtype=dtype) if key in d else None
-
-        peaks = None
-        if "peaks" in d:
-            peaks = {key: np.asarray(value) for key, value in dict(d["peaks"]).items()}
-        return Prongs(
-            vertices=np.asarray(d["vertices"], dtype=np.int64),
-            positions=np.asarray(d["positions"], dtype=np.float64).reshape(-1, 3),
-            significance=np.asarray(d["significance"], dtype=np.float64),
-            tau=float(d["tau"]), scale_function=opt("scale_function", np.float64),
-            sources=opt("sources", np.int64), source_weights=opt("source_weights", np.float64),
-            peaks=peaks)
-
-
-@dataclass
-class Field:
-    """Stage 4 at some points (normalized units): force #P x 3, magnitude #P (|F|), r_min #P
-    (shortest ray distance), outside_rays #P (rays that did not leave through the back of a face:
-    0 inside)."""
-
-    force: np.ndarray
-    magnitude: np.ndarray
-    r_min: np.ndarray
-    outside_rays: np.ndarray
-
-
-@dataclass
-class ConnectionPoints:
-    """Stage 5 (normalized units). Per domain point (#D): shrunk positions, shrunk_magnitude,
-    shrunk_radii, steps, converged (bool), cluster (index of the connection point that absorbed
-    it). Per connection point (#C, by increasing |F|): positions, radii, magnitude, source."""
-
-    shrunk: np.ndarray
-    shrunk_magnitude: np.ndarray
-    shrunk_radii: np.ndarray
-    steps: np.ndarray
-    converged: np.ndarray
-    cluster: np.ndarray
-    positions: np.ndarray
-    radii: np.ndarray
-    magnitude: np.ndarray
-    source: np.ndarray
-
-
-@dataclass
-class DomainGraph:
-    """Stage 6 (normalized units, faces of PreparedMesh.faces). points #P x 3 (connection points
-    then end points), radii, prong (-1 for connection points); face_labels #F (point per face);
-    candidates #L x 2 and costs #L (mean |F|, inf when the segment leaves the shape);
-    candidate_state #L (0 unused, 1 tree, 2 kept cycle); nodes #N (point of each node), links
-    #K x 2 (node pairs), kinds #N, node_of_point #P, face_nodes #F; cycles, components and the
-    counts of each rule in `stats`."""
-
-    points: np.ndarray
-    radii: np.ndarray
-    prong: np.ndarray
-    face_labels: np.ndarray
-    candidates: np.ndarray
-    costs: np.ndarray
-    candidate_state: np.ndarray
-    nodes: np.ndarray
-    links: np.ndarray
-    kinds: np.ndarray
-    node_of_point: np.ndarray
-    face_nodes: np.ndarray
-    cycles: int
-    components: int
-    stats: Dict[str, int]
-
-
-@dataclass
-class Remapped:
-    """Stage 7 (normalized units): one polyline per DomainGraph link (node a .. node b),
-    snake iterations and rerouted (1: the straight link left the shape) per link."""
-
-    polylines: list
-    iterations: np.ndarray
-    rerouted: np.ndarray
-    moves_refused: int
-    unrouted: int
-
-
 class Extractor:
     """Runs the pipeline one stage at a time and keeps every result (paper Fig. 4).
 
@@ -228,22 +111,16 @@ class Extractor:
         self._skeleton: Optional[Skeleton] = None
 
     def prepare(self) -> PreparedMesh:
-        d = self._core.prepare()
-        return PreparedMesh(
-            vertices=np.asarray(d["vertices"]), faces=np.asarray(d["faces"]),
-            scale=float(d["scale"]), offset=np.asarray(d["offset"]).reshape(3),
-            genus=int(d["genus"]), repaired=bool(d["repaired"]), report=dict(d["report"]),
-            map_face=np.asarray(d["map_face"]), map_barycentric=np.asarray(d["map_barycentric"]),
-            remeshed=bool(d["remeshed"]), wrap_alpha=float(d["wrap_alpha"]))
+        """Stage 0: the closed working mesh (normalized units) and the repair report."""
+        return self._core.prepare()
 
     def voronoi_balls(self) -> Balls:
-        d = self._core.voronoi_balls()
-        return Balls(np.asarray(d["centers"]).reshape(-1, 3), np.asarray(d["radii"]))
+        """Stage 1: Voronoi balls inside the shape (normalized units)."""
+        return self._core.voronoi_balls()
 
-    def domain_balls(self) -> Balls:
-        d = self._core.domain_balls()
-        return Balls(np.asarray(d["centers"]).reshape(-1, 3), np.asarray(d["radii"]),
-                     np.asarray(d["source"], dtype=np.int64))
+    def domain_balls(self) -> DomainBalls:
+        """Stage 2: non-intersecting domain balls, largest first (normalized units)."""
+        return self._core.domain_balls()
 
     def prongs(self, tau: Optional[float] = None) -> Prongs:
         """Stage 3 at the extractor's tau, or re-thresholded at `tau` (no new geodesics)."""
@@ -252,58 +129,33 @@ class Extractor:
                 tau = float(tau)
             except (TypeError, ValueError):
                 raise ValueError(f"tau must be a number, got {tau!r}") from None
-        return Prongs._from_core(self._core.prongs(tau))
+        return self._core.prongs(tau)
 
-    def end_points(self) -> Balls:
+    def end_points(self) -> EndPoints:
         """Each prong's end point (strongest prong first): the stage-1 ball nearest to its peak
         that sees it. source: index among voronoi_balls(), -1 (radius 0, the peak itself) when
         no ball sees the peak. Normalized units."""
-        d = self._core.end_points()
-        return Balls(np.asarray(d["centers"]).reshape(-1, 3), np.asarray(d["radii"]),
-                     np.asarray(d["source"], dtype=np.int64))
+        return self._core.end_points()
 
-    def force_field(self, points=None) -> Field:
+    def force_field(self, points=None) -> FieldSamples:
         """Stage 4: F at `points` (#P x 3, normalized units), or at the domain points."""
         if points is not None:
             points = np.ascontiguousarray(points, dtype=np.float64)
             if points.ndim != 2 or points.shape[1] != 3:
                 raise ValueError(f"points must be an n x 3 array, got shape {points.shape}")
-        d = self._core.force_field(points)
-        return Field(np.asarray(d["force"]).reshape(-1, 3), np.asarray(d["magnitude"]),
-                     np.asarray(d["r_min"]), np.asarray(d["outside_rays"], dtype=np.int64))
+        return self._core.force_field(points)
 
     def connection_points(self) -> ConnectionPoints:
         """Stage 5: the domain points shrunk along the field and merged greedily."""
-        d = self._core.connection_points()
-        return ConnectionPoints(
-            shrunk=np.asarray(d["shrunk"]).reshape(-1, 3),
-            shrunk_magnitude=np.asarray(d["shrunk_magnitude"]),
-            shrunk_radii=np.asarray(d["shrunk_radii"]), steps=np.asarray(d["steps"]),
-            converged=np.asarray(d["converged"], dtype=bool), cluster=np.asarray(d["cluster"]),
-            positions=np.asarray(d["positions"]).reshape(-1, 3), radii=np.asarray(d["radii"]),
-            magnitude=np.asarray(d["magnitude"]), source=np.asarray(d["source"]))
+        return self._core.connection_points()
 
     def domain_graph(self) -> DomainGraph:
         """Stage 6: domain surfaces (face labels), links and the kept graph."""
-        d = dict(self._core.domain_graph())
-        arrays = {key: np.asarray(d.pop(key)) for key in (
-            "points", "radii", "prong", "face_labels", "candidates", "costs", "candidate_state",
-            "nodes", "links", "node_of_point", "face_nodes")}
-        arrays["points"] = arrays["points"].reshape(-1, 3)
-        arrays["candidates"] = arrays["candidates"].reshape(-1, 2)
-        arrays["links"] = arrays["links"].reshape(-1, 2)
-        kinds = np.asarray(d.pop("kinds"), dtype=str)
-        cycles, components = int(d.pop("cycles")), int(d.pop("components"))
-        stats = {key: int(value) for key, value in d.items() if np.ndim(value) == 0}
-        return DomainGraph(kinds=kinds, cycles=cycles, components=components, stats=stats,
-                           **arrays)
+        return self._core.domain_graph()
 
     def remap(self) -> Remapped:
         """Stage 7: the snake-fitted polyline of every DomainGraph link."""
-        d = self._core.remap()
-        return Remapped([np.asarray(p).reshape(-1, 3) for p in d["polylines"]],
-                        np.asarray(d["iterations"]), np.asarray(d["rerouted"]),
-                        int(d["moves_refused"]), int(d["unrouted"]))
+        return self._core.remap()
 
     @property
     def timings(self):

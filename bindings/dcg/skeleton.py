@@ -2,65 +2,35 @@
 
 from __future__ import annotations
 
+import copy
 import json
-from dataclasses import dataclass, field
+from dataclasses import field, make_dataclass
 from typing import Any, Dict, List
 
 import numpy as np
 
+from . import _core
+
 FORMAT = "dcg-skeleton/1"
 
 
-@dataclass
-class Skeleton:
-    """A DCG skeleton in the input mesh's coordinates.
+def result_fields(core_class) -> List[str]:
+    """The fields the engine binds on `core_class` (bindings/bind_results.cpp), in order."""
+    return [name for name, value in vars(core_class).items() if isinstance(value, property)]
 
-    positions    #N x 3 float64 node positions
-    kinds        #N str: "end", "joint" or "connection"
-    radii        #N float64 distance from each node to the surface
-    significance #N float64 prong ratio valley/peak of end nodes (lower = stronger), else 0
-    links        #L x 2 int64 node index pairs
-    polylines    #L arrays (p_i x 3), from node links[i,0] to node links[i,1], both included
-    root         the root node (the torso joint), -1 for an empty skeleton
-    face_labels  #F int64 node of each input face (its domain surface), -1 = not labelled
-    timings      stage -> seconds, in the order the stages ran, then "total"
-    """
 
-    positions: np.ndarray
-    kinds: np.ndarray
-    radii: np.ndarray
-    significance: np.ndarray
-    links: np.ndarray
-    polylines: List[np.ndarray]
-    root: int
-    face_labels: np.ndarray
-    timings: Dict[str, float]
-    genus: int = 0
-    repaired: bool = False
-    method: str = ""
-    input_vertices: int = 0
-    input_faces: int = 0
-    options: Dict[str, Any] = field(default_factory=dict)
+#: The skeleton's fields: those of the engine's dcg::Skeleton (cpp/include/dcg/skeleton.h).
+FIELDS = result_fields(_core.Skeleton)
+
+
+class _SkeletonMethods:
+    """What dcg.Skeleton adds to its fields: JSON, dicts, node_count."""
 
     @classmethod
-    def _from_core(cls, d: Dict[str, Any], options: Dict[str, Any]) -> "Skeleton":
-        return cls(
-            positions=np.asarray(d["positions"], dtype=np.float64).reshape(-1, 3),
-            kinds=np.asarray(d["kinds"], dtype=str),
-            radii=np.asarray(d["radii"], dtype=np.float64),
-            significance=np.asarray(d["significance"], dtype=np.float64),
-            links=np.asarray(d["links"], dtype=np.int64).reshape(-1, 2),
-            polylines=[np.asarray(p, dtype=np.float64).reshape(-1, 3) for p in d["polylines"]],
-            root=int(d["root"]),
-            face_labels=np.asarray(d["face_labels"], dtype=np.int64),
-            timings={name: float(s) for name, s in d["timings"]},
-            genus=int(d["genus"]),
-            repaired=bool(d["repaired"]),
-            method=str(d["method"]),
-            input_vertices=int(d["input_vertices"]),
-            input_faces=int(d["input_faces"]),
-            options=dict(options),
-        )
+    def _from_core(cls, core, options: Dict[str, Any]) -> "Skeleton":
+        """A copy of the engine's skeleton (which would keep the whole extractor alive)."""
+        return cls(**{name: copy.deepcopy(getattr(core, name)) for name in FIELDS},
+                   options=dict(options))
 
     @property
     def node_count(self) -> int:
@@ -131,3 +101,15 @@ class Skeleton:
     @classmethod
     def from_json(cls, text: str) -> "Skeleton":
         return cls.from_dict(json.loads(text))
+
+
+Skeleton = make_dataclass(
+    "Skeleton", [(name, Any) for name in FIELDS]
+    + [("options", Dict[str, Any], field(default_factory=dict))],
+    bases=(_SkeletonMethods,), namespace={"__module__": __name__})
+Skeleton.__doc__ = f"""A DCG skeleton in the input mesh's coordinates.
+
+A plain dataclass (picklable, made without the engine by from_dict / from_json) of the engine's
+dcg::Skeleton fields ({", ".join(FIELDS)}; cpp/include/dcg/skeleton.h documents them:
+positions #N x 3 float64, kinds #N str, links #L x 2 int64, face_labels #F int64, timings
+stage -> seconds, ...) and the options that made it."""

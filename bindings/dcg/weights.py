@@ -23,8 +23,7 @@ several parts, non-manifold, at any scale (the work is done on the closed workin
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Callable, Dict, Iterator, Optional, Tuple
+from typing import Callable, Optional, Tuple
 
 import numpy as np
 
@@ -32,55 +31,10 @@ from . import _core
 from .bones import bone_arrays, plan_bones
 from .options import normalize_options
 
-@dataclass
-class SkinWeights:
-    """Per-vertex bone weights as sparse triplets, sorted by vertex then decreasing weight.
-
-    rows    #E int64 vertex index of each entry
-    cols    #E int64 bone index of each entry (the order of the bones given)
-    values  #E float64 weights in (0, 1]; each vertex's sum to 1
-    vertex_count, bone_count   the shape of the dense matrix
-    working_vertices  vertices of the working mesh the heat was solved on
-    unseen_vertices   working vertices that saw no bone (weighted by diffusion)
-    blind_components  working-mesh parts that saw no bone (their nearest bone used)
-    fallback_vertices input vertices left with nothing by the heat (given their nearest bone)
-    timings           step -> seconds, then "total"
-
-    Unpacks as (rows, cols, values).
-    """
-
-    rows: np.ndarray
-    cols: np.ndarray
-    values: np.ndarray
-    vertex_count: int
-    bone_count: int
-    working_vertices: int = 0
-    unseen_vertices: int = 0
-    blind_components: int = 0
-    fallback_vertices: int = 0
-    timings: Dict[str, float] = field(default_factory=dict)
-
-    def __iter__(self) -> Iterator[np.ndarray]:
-        return iter((self.rows, self.cols, self.values))
-
-    def dense(self) -> np.ndarray:
-        """The #V x #B weight matrix."""
-        W = np.zeros((self.vertex_count, self.bone_count))
-        np.add.at(W, (self.rows, self.cols), self.values)
-        return W
-
-    @classmethod
-    def _from_core(cls, d) -> "SkinWeights":
-        return cls(
-            rows=np.asarray(d["rows"], dtype=np.int64),
-            cols=np.asarray(d["cols"], dtype=np.int64),
-            values=np.asarray(d["values"], dtype=np.float64),
-            vertex_count=int(d["vertex_count"]), bone_count=int(d["bone_count"]),
-            working_vertices=int(d["working_vertices"]),
-            unseen_vertices=int(d["unseen_vertices"]),
-            blind_components=int(d["blind_components"]),
-            fallback_vertices=int(d["fallback_vertices"]),
-            timings={name: float(s) for name, s in d["timings"]})
+#: Per-vertex bone weights as sparse triplets (rows, cols: int64; values: float64), sorted by
+#: vertex then decreasing weight, with the counts of what happened (cpp/include/dcg/weights.h).
+#: Unpacks as (rows, cols, values); dense() is the #V x #B matrix.
+SkinWeights = _core.SkinWeights
 
 
 def _points(name, array) -> np.ndarray:
@@ -149,16 +103,44 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
     heads, tails = _bones(bones, tails)
     clean = normalize_options(options)
     if prepared is None:
-        d = _core.skin_weights(V, F, heads, tails, clean, progress)
-    else:
-        map_face = np.ascontiguousarray(prepared.map_face, dtype=np.int64).reshape(-1)
-        if len(map_face) != len(V):
-            raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
-                             "pass the PreparedMesh of this mesh")
-        d = _core.skin_weights_prepared(
-            np.ascontiguousarray(prepared.vertices, dtype=np.float64),
-            np.ascontiguousarray(prepared.faces, dtype=np.int64), float(prepared.scale),
-            np.asarray(prepared.offset, dtype=np.float64).reshape(3), map_face,
-            np.ascontiguousarray(prepared.map_barycentric, dtype=np.float64).reshape(-1, 3),
-            heads, tails, clean, progress)
-    return SkinWeights._from_core(d)
+        return _core.skin_weights(V, F, heads, tails, clean, progress)
+    map_face = np.ascontiguousarray(prepared.map_face, dtype=np.int64).reshape(-1)
+    if len(map_face) != len(V):
+        raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
+                         "pass the PreparedMesh of this mesh")
+    return _core.skin_weights_prepared(
+        np.ascontiguousarray(prepared.vertices, dtype=np.float64),
+        np.ascontiguousarray(prepared.faces, dtype=np.int64), float(prepared.scale),
+        np.asarray(prepared.offset, dtype=np.float64).reshape(3), map_face,
+        np.ascontiguousarray(prepared.map_barycentric, dtype=np.float64).reshape(-1, 3),
+        heads, tails, clean, progress)
+
+
+class BoneHeat(_core.BoneHeat):
+    """Bone heat on a closed mesh, precomputed once (cotangent Laplacian, vertex areas, ray
+    tracing structure); solve() then takes any set of bones: what an interactive bone-detail
+    slider needs.
+
+        heat = dcg.BoneHeat(V, F)                 # V #V x 3, F #F x 3, closed and oriented
+        W = heat.solve(heads, tails)              # #V x #B, rows sum to about 1
+        W = heat.solve(dcg.bones.plan_bones(skeleton, bone_detail=1.0), heat=2.0)
+
+    Unlike skin_weights, the weights are the heat's own on (V, F) (no stage 0, no pruning to
+    max_influences, no fading of faint weights), clipped to [0, 1]. Not thread-safe.
+    """
+
+    def __init__(self, V, F):
+        from . import as_mesh
+
+        super().__init__(*as_mesh(V, F))
+
+    def solve(self, bones, tails=None, *,
+              progress: Optional[Callable[[str, float], Optional[bool]]] = None,
+              **options) -> np.ndarray:
+        """#V x #B weights for `bones` (as skin_weights takes them, in V's coordinates).
+
+        options: heat and tie_tolerance (any of dcg.OPTIONS is accepted). The GIL is released
+        while it works; progress(stage, fraction) returning False raises dcg.Cancelled.
+        """
+        heads, tails = _bones(bones, tails)
+        return super().solve(heads, tails, normalize_options(options), progress)

@@ -1,5 +1,8 @@
 """The stepwise Extractor, stage by stage: prepare, Voronoi balls, domain balls and prongs."""
 
+import dataclasses
+import pickle
+
 import numpy as np
 import pytest
 
@@ -176,3 +179,50 @@ def test_stages_4_to_8_on_a_torus(torus_extractor):
     assert (skeleton.kinds == "connection").all() and len(skeleton.links) == skeleton.node_count
     assert (skeleton.face_labels >= 0).all()
     assert skeleton.face_labels.max() < skeleton.node_count
+
+
+def test_prong_hierarchy_rethresholds_as_the_extractor_does(ellipsoid):
+    ex = dcg.Extractor(*ellipsoid, **FAST)
+    p = ex.prongs()
+    hierarchy = p.hierarchy
+    assert isinstance(hierarchy, dcg.ProngHierarchy)
+    assert ex.prongs(tau=0.7).hierarchy is None and ex.prongs(tau=0.7).scale_function is None
+    working = ex.prepare()
+    # Built from Python on the working mesh and its scale function: the same peaks.
+    rebuilt = dcg.ProngHierarchy(working.vertices, working.faces, p.scale_function)
+    for key, values in hierarchy.peaks.items():
+        np.testing.assert_array_equal(rebuilt.peaks[key], values)
+    for tau in (0.3, 0.5, 0.7, 0.85, 0.95, 1.0):
+        expected = ex.prongs(tau=tau)
+        for h in (hierarchy, rebuilt):
+            got = h.prongs(tau)
+            assert isinstance(got, dcg.Prongs) and got.tau == tau
+            assert got.vertices.dtype == np.int64
+            np.testing.assert_array_equal(got.vertices, expected.vertices)
+            np.testing.assert_array_equal(got.positions, expected.positions)
+            np.testing.assert_array_equal(got.significance, expected.significance)
+    assert hierarchy.global_cap_is_disk(0.85) in (True, False)
+    with pytest.raises(ValueError, match="tau"):
+        hierarchy.prongs(1.5)
+    with pytest.raises(ValueError, match="tau"):
+        hierarchy.prongs("high")
+    with pytest.raises(ValueError, match="values for"):
+        dcg.ProngHierarchy(working.vertices, working.faces, p.scale_function[:-1])
+
+
+def test_results_are_read_only_views_that_keep_the_extractor_alive(ellipsoid):
+    ex = dcg.Extractor(*ellipsoid, **FAST)
+    prepared, graph, prongs = ex.prepare(), ex.domain_graph(), ex.prongs()
+    skeleton = ex.skeleton()
+    del ex
+    assert not prepared.vertices.flags.writeable and prepared.vertices.base is not None
+    assert prepared.offset.shape == (3,) and prepared.faces.dtype == np.int64
+    assert graph.nodes.dtype == np.int64 and graph.links.shape == (len(graph.links), 2)
+    assert graph.kinds.dtype.kind == "U" and graph.stats["pruned"] == graph.pruned
+    assert prongs.hierarchy.prongs(0.85).vertices.tolist() == prongs.vertices.tolist()
+    # The Skeleton is a plain value: its own writable arrays, picklable.
+    assert skeleton.positions.flags.writeable and skeleton.positions.base is None
+    back = pickle.loads(pickle.dumps(skeleton))
+    assert type(back) is dcg.Skeleton and back.to_json() == skeleton.to_json()
+    np.testing.assert_array_equal(back.face_labels, skeleton.face_labels)
+    assert dataclasses.replace(skeleton, method="x").method == "x"

@@ -128,7 +128,8 @@ def test_max_influences_and_unpacking():
                          min_weight=0)
         check_weights(w, len(V), 4, max_influences)
     rows, cols, values = w
-    assert rows is w.rows and cols is w.cols and values is w.values
+    for unpacked, field in zip((rows, cols, values), (w.rows, w.cols, w.values)):
+        np.testing.assert_array_equal(unpacked, field)
 
 
 # --- the ways to give bones ----------------------------------------------------------------------
@@ -322,3 +323,39 @@ def test_spot_is_weighted_the_same_at_every_scale(meshes_dir):
 def test_the_package_exports_skin_weights():
     assert dcg.skin_weights is skin_weights and dcg.SkinWeights is SkinWeights
     assert {"skin_weights", "SkinWeights"} <= set(dcg.__all__)
+
+
+def test_bone_heat_solves_many_bone_sets_as_skin_weights_does():
+    """BoneHeat(V, F).solve(heads, tails) is skin_weights' dense matrix on a closed mesh kept as
+    it is, when skin_weights neither prunes (max_influences >= #B) nor fades (min_weight 0)."""
+    V, F = capsule(sections=8, segments=12, rings=5)
+    heat = dcg.BoneHeat(V, F)
+    assert isinstance(heat, dcg.BoneHeat) and heat.areas.shape == (len(V),)
+    three = np.array([[0, 0, -1.2], [0, 0, -0.4], [0, 0, 0.4], [0, 0, 1.2]], dtype=float)
+    for heads, tails in ((CHAIN_HEADS, CHAIN_TAILS), (three[:-1], three[1:])):
+        W = heat.solve(heads, tails)
+        assert W.shape == (len(V), len(heads)) and W.dtype == np.float64
+        expected = skin_weights(V, F, heads, tails, target_faces=0, min_weight=0,
+                                max_influences=len(heads)).dense()
+        np.testing.assert_allclose(W, expected, atol=1e-9)
+    # A bone plan, like skin_weights; options by name, checked.
+    plan = [SimpleNamespace(head=h, tail=t) for h, t in zip(CHAIN_HEADS, CHAIN_TAILS)]
+    np.testing.assert_allclose(heat.solve(plan), heat.solve(CHAIN_HEADS, CHAIN_TAILS))
+    assert not np.allclose(heat.solve(plan, heat=5.0), heat.solve(plan))
+    bone, distance = heat.nearest_visible_bones(CHAIN_HEADS, CHAIN_TAILS)
+    assert bone.dtype == np.int64 and (bone >= 0).all() and (distance > 0).all()
+    with pytest.raises(ValueError, match="heat"):
+        heat.solve(plan, heat=-1)
+    with pytest.raises(ValueError, match="F must be"):
+        dcg.BoneHeat(V, F[:, :2])
+    with pytest.raises(dcg.Cancelled):
+        heat.solve(plan, progress=lambda stage, fraction: False)
+
+
+def test_skin_weights_fields_are_read_only_views_and_unpack():
+    V, F = capsule(sections=8, segments=12, rings=5)
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=0)
+    rows, cols, values = w
+    assert rows.dtype == cols.dtype == np.int64 and not values.flags.writeable
+    assert set(w.timings) >= {"laplacian", "solve", "total"}
+    assert w.dense().shape == (len(V), 2)
