@@ -13,6 +13,7 @@
 #include "dcg/options.h"
 #include "dcg/force_field.h"
 #include "dcg/surface_query.h"
+#include "polling.h"
 
 namespace dcg {
 namespace {
@@ -116,7 +117,8 @@ Eigen::VectorXi merge_greedily(const Points& points, const Eigen::VectorXd& magn
 }
 
 ConnectionPoints compute_connection_points(const Points& domain_points, const ForceField& field,
-                                           const ConnectionPointsOptions& options) {
+                                           const ConnectionPointsOptions& options,
+                                           const Progress& progress, double from, double to) {
   check_option("shrink_step", options.shrink_step);
   if (options.max_steps < 0 || options.max_halvings < 1) {
     throw InputError("connection points: max_steps must be >= 0 and max_halvings >= 1");
@@ -128,16 +130,22 @@ ConnectionPoints compute_connection_points(const Points& domain_points, const Fo
   out.shrunk_radii.resize(count);
   out.steps.resize(count);
   out.converged.assign(count, 0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, count, 4), [&](const tbb::blocked_range<int>& r) {
-    for (int i = r.begin(); i != r.end(); ++i) {
-      const ShrinkResult s = shrink(domain_points.row(i).transpose(), field, options);
-      out.shrunk.row(i) = s.p.transpose();
-      out.shrunk_magnitude[i] = s.magnitude;
-      out.shrunk_radii[i] = field.query().distance(s.p);
-      out.steps[i] = s.steps;
-      out.converged[i] = s.converged ? 1 : 0;
-    }
-  });
+  internal::ThrottledProgress tick(progress, "connection_points", from, to);
+  tick(0);
+  // Points shrink independently: a few per thread at a time (a point takes up to a few ms: 200
+  // steps of 64 rays), polled between.
+  internal::parallel_chunks(
+      count, internal::per_thread(4), 1, tick.part(0, 0.95), [&](const tbb::blocked_range<int>& r) {
+        for (int i = r.begin(); i != r.end(); ++i) {
+          const ShrinkResult s = shrink(domain_points.row(i).transpose(), field, options);
+          out.shrunk.row(i) = s.p.transpose();
+          out.shrunk_magnitude[i] = s.magnitude;
+          out.shrunk_radii[i] = field.query().distance(s.p);
+          out.steps[i] = s.steps;
+          out.converged[i] = s.converged ? 1 : 0;
+        }
+      });
+  tick(0.95);
   std::vector<int> survivors;
   out.cluster = merge_greedily(out.shrunk, out.shrunk_magnitude, out.shrunk_radii,
                                options.merge_fraction, &survivors);

@@ -18,12 +18,16 @@
 
 #include "dcg/errors.h"
 #include "dcg/options.h"
+#include "polling.h"
 
 namespace dcg {
 
-DomainBalls compute_domain_balls(const Balls& candidates, const DomainBallsOptions& options) {
+DomainBalls compute_domain_balls(const Balls& candidates, const DomainBallsOptions& options,
+                                 const Progress& progress, double from, double to) {
   check_option("min_gap", options.min_gap);
   check_option("min_radius", options.min_radius);
+  internal::ThrottledProgress tick(progress, "domain_balls", from, to);
+  tick(0);
   const Eigen::Index n = candidates.centers.rows();
   if (candidates.radii.size() != n) {
     throw InputError("domain balls: " + std::to_string(n) + " centers but " +
@@ -62,7 +66,9 @@ DomainBalls compute_domain_balls(const Balls& candidates, const DomainBallsOptio
   };
   std::unordered_map<std::uint64_t, std::vector<int>> grid;
   std::vector<int> accepted;
+  std::size_t visited = 0;
   for (int i : order) {
+    if ((visited++ & 255) == 0) tick(static_cast<double>(visited) / order.size());
     const Eigen::RowVector3d c = candidates.centers.row(i);
     const double r = candidates.radii[i];
     const double h = r + 0.5 * gap;

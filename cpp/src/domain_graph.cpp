@@ -23,6 +23,7 @@
 #include "dcg/weights.h"
 #include "domain_graph_passes.h"
 #include "edge_table.h"
+#include "polling.h"
 #include "union_find.h"
 
 namespace dcg {
@@ -487,11 +488,13 @@ void seed_primitive_faces(GraphWork& w) {
   const int P = w.point_count();
   std::vector<int> closest_face(P);
   std::vector<double> closest_distance(P);
-  tbb::parallel_for(0, P, [&](int p) {
-    int f = -1;
-    const Eigen::Vector3d q = w.query.closest_point(g.points.row(p).transpose(), &f);
-    closest_face[p] = f;
-    closest_distance[p] = (q - g.points.row(p).transpose()).norm();
+  parallel_chunks(P, per_thread(256), 16, w.poll, [&](const tbb::blocked_range<int>& r) {
+    for (int p = r.begin(); p != r.end(); ++p) {
+      int f = -1;
+      const Eigen::Vector3d q = w.query.closest_point(g.points.row(p).transpose(), &f);
+      closest_face[p] = f;
+      closest_distance[p] = (q - g.points.row(p).transpose()).norm();
+    }
   });
   std::vector<int> claim_order(P);
   std::iota(claim_order.begin(), claim_order.end(), 0);
@@ -515,7 +518,8 @@ void find_visible_owners(GraphWork& w, int candidates) {
   const int P = w.point_count(), nf = static_cast<int>(w.mesh.F.rows());
   candidates = std::max(1, std::min(candidates, P));
   g.visible_owner = Eigen::VectorXi::Constant(nf, -1);
-  tbb::parallel_for(tbb::blocked_range<int>(0, nf, 64), [&](const tbb::blocked_range<int>& range) {
+  // Faces are independent: in chunks, polled between.
+  parallel_chunks(nf, per_thread(32), 16, w.poll, [&](const tbb::blocked_range<int>& range) {
     std::vector<std::pair<double, int>> d(P);
     std::vector<double> a(3 * 8), b(3 * 8);
     unsigned char blocked[8];
@@ -597,10 +601,19 @@ void flood_fill_labels(GraphWork& w) {
 }
 
 void label_faces(GraphWork& w, int visibility_candidates) {
+  const std::function<void(double)> whole = w.poll;
+  auto part = [&](double a, double b) {
+    if (whole) w.poll = [whole, a, b](double f) { whole(a + (b - a) * f); };
+    w.at(0);
+  };
+  part(0, 0.1);
   seed_primitive_faces(w);
+  part(0.1, 0.9);  // the visibility tests: most of the labelling's time
   find_visible_owners(w, visibility_candidates);
+  part(0.9, 1);
   grow_regions(w);
   flood_fill_labels(w);
+  w.poll = whole;
 }
 
 void link_candidates(GraphWork& w, int cost_samples) {
@@ -623,14 +636,17 @@ void link_candidates(GraphWork& w, int cost_samples) {
   g.costs.resize(L);
   g.candidate_state = Eigen::VectorXi::Zero(L);
   for (int l = 0; l < L; ++l) g.candidates.row(l) << pairs[l].first, pairs[l].second;
-  tbb::parallel_for(0, L, [&](int l) {
-    const Eigen::Vector3d a = g.points.row(pairs[l].first).transpose(),
-                          b = g.points.row(pairs[l].second).transpose();
-    // Both points are inside, so the link is inside unless its segment crosses the surface.
-    // (Requiring also that every sample on it see only backs of faces in all 64 directions
-    // failed at any 0.3% noise fold in view: a noisy kitten lost the link that closes its
-    // tail's loop in 5 of 10 draws.) The field is sampled only along links that stay inside.
-    g.costs[l] = w.query.segment_blocked(a, b) ? kInf : w.field.mean_magnitude(a, b, cost_samples);
+  parallel_chunks(L, per_thread(32), 1, w.poll, [&](const tbb::blocked_range<int>& r) {
+    for (int l = r.begin(); l != r.end(); ++l) {
+      const Eigen::Vector3d a = g.points.row(pairs[l].first).transpose(),
+                            b = g.points.row(pairs[l].second).transpose();
+      // Both points are inside, so the link is inside unless its segment crosses the surface.
+      // (Requiring also that every sample on it see only backs of faces in all 64 directions
+      // failed at any 0.3% noise fold in view: a noisy kitten lost the link that closes its
+      // tail's loop in 5 of 10 draws.) The field is sampled only along links that stay inside.
+      g.costs[l] =
+          w.query.segment_blocked(a, b) ? kInf : w.field.mean_magnitude(a, b, cost_samples);
+    }
   });
 }
 
@@ -834,7 +850,8 @@ void classify(GraphWork& w) {
 
 DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, const Points& points,
                                  const Eigen::VectorXd& radii, const Eigen::VectorXi& prong,
-                                 int genus, const DomainGraphOptions& options) {
+                                 int genus, const DomainGraphOptions& options,
+                                 const Progress& progress, double from, double to) {
   const Eigen::Index P = points.rows();
   if (radii.size() != P || prong.size() != P) {
     throw InputError("domain graph: points, radii and prong differ in length");
@@ -842,9 +859,17 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
   if (mesh.F.rows() == 0) throw InputError("domain graph: the mesh has no faces");
   if (P == 0) throw InputError("the shape has no interior: no point to build a graph from");
   using namespace internal;
+  ThrottledProgress tick(progress, "domain_graph", from, to);
   GraphWork w(mesh, field, points, radii, prong);
+  auto pass = [&](double a, double b) {
+    w.poll = tick.part(a, b);
+    w.at(0);
+  };
+  pass(0, 0.6);
   label_faces(w, options.visibility_candidates);
+  pass(0.6, 0.9);
   link_candidates(w, options.cost_samples);
+  pass(0.9, 1);  // the graph passes: no loop long enough to need a poll inside
   spanning_tree(w);
   keep_handle_cycles(w, genus);
   if (options.prune) prune(w);

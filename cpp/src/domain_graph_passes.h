@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -73,9 +74,15 @@ struct GraphWork {
   std::vector<int> tree_order;  ///< candidate links in the order Kruskal takes them
   std::vector<std::vector<std::pair<int, int>>> tree;  ///< #P (neighbour, link) of the tree
   std::vector<std::vector<int>> kept_cycles;  ///< sorted link sets of the kept handle cycles
+  /// The cancellation poll of the passes' long loops, given the fraction of the current pass
+  /// done (compute_domain_graph sets it pass by pass; empty: no polls). May throw Cancelled.
+  std::function<void(double)> poll;
 
   bool is_end(int p) const { return g.prong[p] >= 0; }
   int point_count() const { return static_cast<int>(g.points.rows()); }
+  void at(double fraction) const {
+    if (poll) poll(fraction);
+  }
 };
 
 // --- face labels (domain surfaces) ---------------------------------------------------------

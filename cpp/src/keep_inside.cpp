@@ -8,6 +8,7 @@
 
 #include "dcg/force_field.h"
 #include "dcg/surface_query.h"
+#include "polling.h"
 
 namespace dcg {
 namespace {
@@ -104,16 +105,16 @@ void keep_segments_inside(Points& poly, double ra, double rb, const SurfaceQuery
 
 }  // namespace
 
-void keep_inside(Skeleton& s, const SurfaceQuery& surface, const std::function<void()>& poll) {
-  const auto tick = [&] {
-    if (poll) poll();
-  };
+void keep_inside(Skeleton& s, const SurfaceQuery& surface, const Progress& progress, double from,
+                 double to) {
+  internal::ThrottledProgress tick(progress, "skeleton", from, to);
+  const double steps = static_cast<double>(s.positions.rows() + s.links.rows());
   for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
-    tick();
+    tick(i / steps);
     keep_point_inside(s.positions.row(i), s.radii[i], surface);
   }
   for (Eigen::Index l = 0; l < s.links.rows(); ++l) {
-    tick();
+    tick((s.positions.rows() + l) / steps);
     Points& poly = s.polylines[l];
     const int a = s.links(l, 0), b = s.links(l, 1);
     const Eigen::Index last = poly.rows() - 1;
@@ -127,13 +128,15 @@ void keep_inside(Skeleton& s, const SurfaceQuery& surface, const std::function<v
   }
 }
 
-void keep_inside_input(Skeleton& s, const PreparedMesh& prepared, const Vertices& V,
-                       const Faces& F, const SurfaceQuery& working_surface,
-                       const std::function<void()>& poll) {
+void keep_inside_input(Skeleton& s, const PreparedMesh& prepared, const Vertices& V, const Faces& F,
+                       const SurfaceQuery& working_surface, const Progress& progress, double from,
+                       double to) {
   if (!(prepared.remeshed && !prepared.repaired && prepared.report.closed_manifold())) {
-    keep_inside(s, working_surface, poll);
+    keep_inside(s, working_surface, progress, from, to);
     return;
   }
+  internal::ThrottledProgress tick(progress, "skeleton", from, to);
+  tick(0);
   Mesh normalized;
   normalized.V.resize(V.rows(), 3);
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
@@ -141,8 +144,8 @@ void keep_inside_input(Skeleton& s, const PreparedMesh& prepared, const Vertices
   }
   normalized.F = F;
   // Millions of input faces take a second or more to index: polled for cancellation too.
-  const SurfaceQuery input_surface(normalized, poll);
-  keep_inside(s, input_surface, poll);
+  const SurfaceQuery input_surface(normalized, [&] { tick(0); });
+  keep_inside(s, input_surface, progress, from + 0.5 * (to - from), to);
 }
 
 }  // namespace dcg

@@ -17,6 +17,11 @@
 namespace dcg {
 namespace {
 
+// Each stage's share of the whole run: it reports from its start to the next one's (see
+// dcg/progress.h), in the order skeleton() runs them.
+constexpr double kPrepare = 0.0, kVoronoi = 0.25, kDomain = 0.55, kProngs = 0.6, kField = 0.65,
+                 kConnection = 0.7, kGraph = 0.8, kRemap = 0.9, kSkeleton = 0.97, kDone = 1.0;
+
 double now_seconds() {
   using Clock = std::chrono::steady_clock;
   return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
@@ -46,9 +51,8 @@ void Extractor::timed(const std::string& stage, double seconds) {
 
 const PreparedMesh& Extractor::prepare() {
   if (!prepared_) {
-    progress_.report("prepare", 0.0);
     const double t0 = now_seconds();
-    prepared_ = prepare_mesh(V_, F_, options_.prepare_options(), progress_, 0.0, 0.25);
+    prepared_ = prepare_mesh(V_, F_, options_.prepare_options(), progress_, kPrepare, kVoronoi);
     timed("prepare", now_seconds() - t0);
   }
   return *prepared_;
@@ -59,13 +63,11 @@ const SurfaceQuery& Extractor::query() { return *prepare().query; }
 const Balls& Extractor::voronoi_balls() {
   if (!voronoi_) {
     const Mesh& working = prepare().working;
-    progress_.report("voronoi_balls", 0.25);
     const double t0 = now_seconds();
     VoronoiBallsOptions vo = options_.voronoi;
     vo.samples = voronoi_samples(vo, options_.prepare, working.F.rows());
     vo.seed = options_.seed;
-    voronoi_ = compute_voronoi_balls(working, query(), vo,
-                                     internal::throttled_poll(progress_, "voronoi_balls", 0.25));
+    voronoi_ = compute_voronoi_balls(working, query(), vo, progress_, kVoronoi, kDomain);
     timed("voronoi_balls", now_seconds() - t0);
   }
   return *voronoi_;
@@ -74,9 +76,8 @@ const Balls& Extractor::voronoi_balls() {
 const DomainBalls& Extractor::domain_balls() {
   if (!domain_) {
     const Balls& candidates = voronoi_balls();
-    progress_.report("domain_balls", 0.55);
     const double t0 = now_seconds();
-    domain_ = compute_domain_balls(candidates, options_.domain);
+    domain_ = compute_domain_balls(candidates, options_.domain, progress_, kDomain, kProngs);
     timed("domain_balls", now_seconds() - t0);
   }
   return *domain_;
@@ -85,11 +86,10 @@ const DomainBalls& Extractor::domain_balls() {
 const ProngFeatures& Extractor::prongs() {
   if (!prongs_) {
     const Mesh& working = prepare().working;
-    progress_.report("prongs", 0.6);
     const double t0 = now_seconds();
     ProngOptions po = options_.prongs;
     po.seed = options_.seed;
-    prongs_ = compute_prongs(working, po);
+    prongs_ = compute_prongs(working, po, progress_, kProngs, kField);
     timed("prongs", now_seconds() - t0);
   }
   return *prongs_;
@@ -111,7 +111,7 @@ const EndPoints& Extractor::end_points() {
 const ForceField& Extractor::force_field() {
   if (!field_) {
     const PreparedMesh& pm = prepare();
-    progress_.report("force_field", 0.65);
+    progress_.report("force_field", kField);
     const double t0 = now_seconds();
     field_.emplace(pm.query, options_.field);
     timed("force_field", now_seconds() - t0);
@@ -134,9 +134,9 @@ const ConnectionPoints& Extractor::connection_points() {
   if (!connection_) {
     const DomainBalls& domain = domain_balls();
     const ForceField& field = force_field();
-    progress_.report("connection_points", 0.7);
     const double t0 = now_seconds();
-    connection_ = compute_connection_points(domain.balls.centers, field, options_.connection);
+    connection_ = compute_connection_points(domain.balls.centers, field, options_.connection,
+                                            progress_, kConnection, kGraph);
     timed("connection_points", now_seconds() - t0);
   }
   return *connection_;
@@ -148,12 +148,12 @@ const DomainGraph& Extractor::domain_graph() {
     domain_balls();
     const EndPoints& ends = end_points();
     const ConnectionPoints& cp = connection_points();
-    progress_.report("domain_graph", 0.8);
     const double t0 = now_seconds();
     const GraphPoints points = graph_points(cp, ends, prongs().prongs, pm.working, query(),
                                             domain_->balls.centers);
-    graph_ = compute_domain_graph(pm.working, force_field(), points.points, points.radii,
-                                  points.prong, pm.genus);
+    graph_ =
+        compute_domain_graph(pm.working, force_field(), points.points, points.radii, points.prong,
+                             pm.genus, DomainGraphOptions{}, progress_, kGraph, kRemap);
     timed("domain_graph", now_seconds() - t0);
   }
   return *graph_;
@@ -163,7 +163,6 @@ const Remapped& Extractor::remap() {
   if (!remapped_) {
     const DomainGraph& g = domain_graph();
     const ConnectionPoints& cp = connection_points();
-    progress_.report("remap", 0.9);
     const double t0 = now_seconds();
     const Eigen::Index n = static_cast<Eigen::Index>(g.nodes.size());
     Points nodes(n, 3);
@@ -181,8 +180,11 @@ const Remapped& Extractor::remap() {
     // a cow's ear at the input's own resolution, has few stage-1 balls) tries again with one
     // more waypoint behind every face: the middle of its inward chord.
     const SurfaceQuery& surface = query();
-    remapped_ = remap_links(nodes, radii, g.links, force_field(), waypoints, options_.remap,
-                            [&] { return chord_midpoints(prepared_->working, surface); });
+    const MoreWaypoints chords = [&](const Progress& progress, double from, double to) {
+      return chord_midpoints(prepared_->working, surface, progress, from, to);
+    };
+    remapped_ = remap_links(nodes, radii, g.links, force_field(), waypoints, options_.remap, chords,
+                            progress_, kRemap, kSkeleton);
     timed("remap", now_seconds() - t0);
   }
   return *remapped_;
@@ -221,15 +223,14 @@ const Skeleton& Extractor::skeleton() {
       connection_points();
       domain_graph();
       const Remapped& remapped = remap();
-      progress_.report("skeleton", 0.97);
+      progress_.report("skeleton", kSkeleton);
       const double t0 = now_seconds();
       const DomainGraph& g = *graph_;
       if (g.nodes.empty()) throw std::runtime_error("stage 6 kept no node");
       s = assemble_skeleton(g, remapped, prongs_->prongs.significance);
       // The working mesh of a remeshed input may bulge out of it in concave places: hold the
       // skeleton to the input's own surface when that is closed (else to the working mesh).
-      keep_inside_input(s, *prepared_, V_, F_, query(),
-                        internal::throttled_poll(progress_, "skeleton", 0.97));
+      keep_inside_input(s, *prepared_, V_, F_, query(), progress_, kSkeleton, kDone);
       timed("skeleton", now_seconds() - t0);
     } catch (const Cancelled&) {
       throw;
@@ -242,7 +243,7 @@ const Skeleton& Extractor::skeleton() {
       s = interim_skeleton();
       s.method = "interim_graph (fallback: " + failure + ")";
     }
-    progress_.report("done", 1.0);
+    progress_.report("done", kDone);
     skeleton_ = std::move(s);
   }
   return *skeleton_;

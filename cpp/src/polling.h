@@ -12,6 +12,10 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "dcg/progress.h"
 
 namespace dcg::internal {
@@ -41,13 +45,21 @@ class ThrottledProgress {
   std::chrono::steady_clock::time_point last_{};
 };
 
-/// A poll for long loops: reports `stage` at `fraction` through `progress` at most every 10 ms
-/// (the first call always reports); Cancelled when the callback asks to stop.
-inline std::function<void()> throttled_poll(const Progress& progress, std::string stage,
-                                            double fraction) {
-  return [throttle = ThrottledProgress(progress, std::move(stage), fraction, fraction)]() mutable {
-    throttle(0.0);
-  };
+/// `items` for each thread TBB may use: a chunk size for parallel_chunks that keeps every thread
+/// busy and each chunk about as long on any machine.
+inline int per_thread(int items) { return items * tbb::this_task_arena::max_concurrency(); }
+
+/// tbb::parallel_for(blocked_range(0, n, grain), body) in chunks of `chunk` indices, calling
+/// `at(fraction of the indices done)` (if set) on this thread before each chunk. For loops over
+/// independent items, whose results do not depend on how the range is split: the same results as
+/// one parallel_for, with a cancellation poll between the chunks.
+template <class Index, class Body>
+void parallel_chunks(Index n, Index chunk, Index grain, const std::function<void(double)>& at,
+                     const Body& body) {
+  for (Index first = 0; first < n; first += chunk) {
+    if (at) at(static_cast<double>(first) / static_cast<double>(n));
+    tbb::parallel_for(tbb::blocked_range<Index>(first, std::min(n, first + chunk), grain), body);
+  }
 }
 
 /// Work finishing on another thread while this one keeps polling: the worker calls set() when

@@ -11,8 +11,9 @@
 //   the whole sampling costs about one Dijkstra per source over its own Voronoi cell: together a
 //   few full Dijkstras. The final nearest-source labels are the geodesic Voronoi cells; a
 //   source's weight is the area of its cell (vertex areas: a third of the incident faces).
-// - Full fields: one Dijkstra per source, in parallel (TBB) in fixed chunks of sources whose
-//   fields are then added in source order: the sums are the same for any number of threads.
+// - Full fields: one Dijkstra per source, in parallel (TBB) in chunks of sources (a few per
+//   thread, so that the progress is polled every few ms between them) whose fields are then
+//   added in source order: the sums are the same for any number of threads and any chunk size.
 // - Watershed: vertices by decreasing f (ties by index), union-find regions with their peaks;
 //   the elder rule (the region with the lower peak ends where it meets a higher one) gives each
 //   peak one valley, whatever tau is, so re-thresholding needs no new pass.
@@ -34,11 +35,19 @@
 #include "dcg/errors.h"
 #include "dcg/options.h"
 #include "dcg/surface_query.h"
+#include "polling.h"
 
 namespace dcg {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+const char* const kStage = "prongs";
+
+using Poll = std::function<void(double)>;  // fraction of the current step done, may throw
+
+void poll_at(const Poll& at, double fraction) {
+  if (at) at(fraction);
+}
 
 // Undirected edge graph of a triangle mesh in CSR form.
 struct EdgeGraph {
@@ -56,7 +65,7 @@ void check_mesh(const Mesh& mesh) {
   }
 }
 
-EdgeGraph build_graph(const Mesh& mesh) {
+EdgeGraph build_graph(const Mesh& mesh, const std::function<void()>& poll = {}) {
   EdgeGraph g;
   g.n = static_cast<int>(mesh.V.rows());
   std::vector<std::uint64_t> directed;
@@ -70,7 +79,7 @@ EdgeGraph build_graph(const Mesh& mesh) {
       directed.push_back((static_cast<std::uint64_t>(b) << 32) | a);
     }
   }
-  std::sort(directed.begin(), directed.end());
+  internal::sort_polling(directed, poll);
   directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
   g.start.assign(g.n + 1, 0);
   g.neighbour.resize(directed.size());
@@ -186,14 +195,16 @@ class DijkstraQueue {
   std::vector<HeapItem> heap_;
 };
 
-// Sum over sources of weight * distance, by chunks of sources in parallel, added in source order.
+// Sum over sources of weight * distance, by chunks of sources in parallel, added in source order
+// (whatever the chunk size); `at` is polled between the chunks.
 Eigen::VectorXd weighted_distance_sum(const EdgeGraph& g, const std::vector<int>& sources,
-                                      const std::vector<double>& weights) {
+                                      const std::vector<double>& weights, const Poll& at) {
   const int n = g.n, S = static_cast<int>(sources.size());
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), reached = Eigen::VectorXd::Zero(n);
-  const int chunk = 32;
+  const int chunk = std::max(4, internal::per_thread(2));
   std::vector<float> fields(static_cast<std::size_t>(std::min(chunk, S)) * n);
   for (int first = 0; first < S; first += chunk) {
+    poll_at(at, static_cast<double>(first) / S);
     const int count = std::min(chunk, S - first);
     tbb::parallel_for(tbb::blocked_range<int>(0, count, 1), [&](const tbb::blocked_range<int>& r) {
       std::vector<double> dist(n);
@@ -232,53 +243,42 @@ Eigen::VectorXd edge_geodesics(const Mesh& mesh, int source) {
   return dist;
 }
 
-Eigen::VectorXd exact_scale_function(const Mesh& mesh, bool area_weighted) {
-  check_mesh(mesh);
-  const EdgeGraph g = build_graph(mesh);
+namespace {
+
+// f(v) from v's own Dijkstra (d is symmetric) with vertex weights w: independent per vertex, O(n)
+// memory; in chunks of vertices with `at` polled between them.
+Eigen::VectorXd exact_values(const EdgeGraph& g, const std::vector<double>& w, const Poll& at) {
   const int n = g.n;
-  std::vector<double> w = area_weighted ? vertex_areas(mesh) : std::vector<double>(n, 1.0);
-  // f(v) from v's own Dijkstra (d is symmetric): independent per vertex, O(n) memory.
   Eigen::VectorXd f(n);
-  tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& r) {
-    std::vector<double> dist(n);
-    DijkstraQueue queue(g);
-    for (int v = r.begin(); v != r.end(); ++v) {
-      std::fill(dist.begin(), dist.end(), kInf);
-      queue.run(v, dist.data(), nullptr, 0);
-      double sum = 0, total = 0;
-      for (int i = 0; i < n; ++i) {
-        if (std::isinf(dist[i])) continue;
-        sum += w[i] * dist[i];
-        total += w[i];
-      }
-      f[v] = total > 0 ? sum / total : 0.0;
-    }
-  });
+  internal::parallel_chunks(n, internal::per_thread(16), 16, at,
+                            [&](const tbb::blocked_range<int>& r) {
+                              std::vector<double> dist(n);
+                              DijkstraQueue queue(g);
+                              for (int v = r.begin(); v != r.end(); ++v) {
+                                std::fill(dist.begin(), dist.end(), kInf);
+                                queue.run(v, dist.data(), nullptr, 0);
+                                double sum = 0, total = 0;
+                                for (int i = 0; i < n; ++i) {
+                                  if (std::isinf(dist[i])) continue;
+                                  sum += w[i] * dist[i];
+                                  total += w[i];
+                                }
+                                f[v] = total > 0 ? sum / total : 0.0;
+                              }
+                            });
   return f;
 }
 
-ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOptions& options) {
-  check_mesh(mesh);
-  check_option("geodesic_sources", options.geodesic_sources);
-  const EdgeGraph g = build_graph(mesh);
+// Geodesic farthest-point sampling of `count` sources with incremental (pruned) Dijkstra; each
+// source's weight is the area of its geodesic Voronoi cell. `at` is polled after each source.
+void sample_sources(const EdgeGraph& g, const std::vector<double>& area, int count, unsigned seed,
+                    const Poll& at, std::vector<int>& sources, std::vector<double>& weights) {
   const int n = g.n;
-  const std::vector<double> area = vertex_areas(mesh);
-  ScaleFunction out;
-  std::vector<int> sources;
-  std::vector<double> weights;
-  if (options.geodesic_sources == 0 || options.geodesic_sources >= n) {
-    out.values = exact_scale_function(mesh, true);
-    out.sources.resize(n);
-    std::iota(out.sources.data(), out.sources.data() + n, 0);
-    out.weights = Eigen::Map<const Eigen::VectorXd>(area.data(), n);
-    return out;
-  }
-  // Geodesic farthest-point sampling with incremental (pruned) Dijkstra.
   std::vector<double> dist(n, kInf);
   std::vector<int> label(n, -1);
   DijkstraQueue queue(g);
   {
-    std::mt19937 rng(options.seed);
+    std::mt19937 rng(seed);
     const int start = static_cast<int>(rng() % static_cast<unsigned>(n));
     std::vector<double> from_start(n, kInf);
     queue.run(start, from_start.data(), nullptr, 0);
@@ -288,7 +288,8 @@ ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOption
     sources.push_back(first);
     queue.run(first, dist.data(), label.data(), 0);
   }
-  while (static_cast<int>(sources.size()) < options.geodesic_sources) {
+  while (static_cast<int>(sources.size()) < count) {
+    poll_at(at, static_cast<double>(sources.size()) / count);
     int next = 0;
     for (int v = 1; v < n; ++v)
       if (dist[v] > dist[next]) next = v;  // an unreached vertex (infinity) comes first
@@ -300,15 +301,51 @@ ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOption
   weights.assign(sources.size(), 0.0);
   for (int v = 0; v < n; ++v)
     if (label[v] >= 0) weights[label[v]] += area[v];
-  out.values = weighted_distance_sum(g, sources, weights);
-  out.sources = Eigen::Map<const Eigen::VectorXi>(sources.data(), static_cast<Eigen::Index>(sources.size()));
-  out.weights = Eigen::Map<const Eigen::VectorXd>(weights.data(), static_cast<Eigen::Index>(weights.size()));
+}
+
+}  // namespace
+
+Eigen::VectorXd exact_scale_function(const Mesh& mesh, bool area_weighted) {
+  check_mesh(mesh);
+  const EdgeGraph g = build_graph(mesh);
+  const std::vector<double> w = area_weighted ? vertex_areas(mesh) : std::vector<double>(g.n, 1.0);
+  return exact_values(g, w, {});
+}
+
+ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOptions& options,
+                                     const Progress& progress, double from, double to) {
+  check_mesh(mesh);
+  check_option("geodesic_sources", options.geodesic_sources);
+  internal::ThrottledProgress tick(progress, kStage, from, to);
+  tick(0);
+  const EdgeGraph g = build_graph(mesh, [&] { tick(0); });
+  const int n = g.n;
+  const std::vector<double> area = vertex_areas(mesh);
+  ScaleFunction out;
+  if (options.geodesic_sources == 0 || options.geodesic_sources >= n) {
+    out.values = exact_values(g, area, tick.part(0, 1));
+    out.sources.resize(n);
+    std::iota(out.sources.data(), out.sources.data() + n, 0);
+    out.weights = Eigen::Map<const Eigen::VectorXd>(area.data(), n);
+    return out;
+  }
+  std::vector<int> sources;
+  std::vector<double> weights;
+  sample_sources(g, area, options.geodesic_sources, options.seed, tick.part(0, 0.1), sources,
+                 weights);
+  out.values = weighted_distance_sum(g, sources, weights, tick.part(0.1, 1));
+  out.sources =
+      Eigen::Map<const Eigen::VectorXi>(sources.data(), static_cast<Eigen::Index>(sources.size()));
+  out.weights =
+      Eigen::Map<const Eigen::VectorXd>(weights.data(), static_cast<Eigen::Index>(weights.size()));
   return out;
 }
 
 // --- watershed -------------------------------------------------------------------------------
 
-ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f) : mesh_(mesh), f_(f) {
+ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f, const Progress& progress,
+                               double from, double to)
+    : mesh_(mesh), f_(f) {
   check_mesh(mesh);
   const int n = static_cast<int>(mesh.V.rows());
   if (f.size() != n) {
@@ -316,7 +353,9 @@ ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f) : mes
                      std::to_string(n) + " vertices");
   }
   if (!f.allFinite()) throw InputError("prong hierarchy: the scale function is not finite");
-  const EdgeGraph g = build_graph(mesh);
+  internal::ThrottledProgress tick(progress, kStage, from, to);
+  tick(0);
+  const EdgeGraph g = build_graph(mesh, [&] { tick(0); });
   adjacency_start_ = g.start;
   adjacency_ = g.neighbour;
 
@@ -334,7 +373,9 @@ ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f) : mes
     return x;
   };
   std::vector<int> roots;
-  for (const int v : order) {
+  for (int i = 0; i < n; ++i) {
+    if ((i & 1023) == 0) tick(static_cast<double>(i) / n);
+    const int v = order[i];
     roots.clear();
     for (int e = adjacency_start_[v]; e < adjacency_start_[v + 1]; ++e) {
       const int u = adjacency_[e];
@@ -472,11 +513,13 @@ Prongs ProngHierarchy::prongs(double tau) const {
   return out;
 }
 
-ProngFeatures compute_prongs(const Mesh& mesh, const ProngOptions& options) {
+ProngFeatures compute_prongs(const Mesh& mesh, const ProngOptions& options,
+                             const Progress& progress, double from, double to) {
   check_option("tau", options.tau);
+  const double split = from + 0.9 * (to - from);  // the geodesics take most of the time
   ProngFeatures out;
-  out.scale = compute_scale_function(mesh, options);
-  out.hierarchy = ProngHierarchy(mesh, out.scale.values);
+  out.scale = compute_scale_function(mesh, options, progress, from, split);
+  out.hierarchy = ProngHierarchy(mesh, out.scale.values, progress, split, to);
   out.prongs = out.hierarchy.prongs(options.tau);
   return out;
 }

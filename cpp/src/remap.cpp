@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <queue>
 
@@ -18,11 +19,13 @@
 #include "dcg/options.h"
 #include "dcg/force_field.h"
 #include "dcg/surface_query.h"
+#include "polling.h"
 
 namespace dcg {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+const char* const kStage = "remap";
 
 // Resamples the polyline `path` into at least `count` points spaced by arc length, with every
 // corner of `path` among them: each hop gets a share of the points by its length (at least one
@@ -319,7 +322,8 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
 
 Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Edges& links,
                      const ForceField& field, const Points& waypoints, const RemapOptions& options,
-                     const std::function<Points()>& more_waypoints) {
+                     const MoreWaypoints& more_waypoints, const Progress& progress, double from,
+                     double to) {
   check_option("snake_iterations", options.snake_iterations);
   if (options.min_inner_points < 1 || !(options.spacing > 0)) {
     throw InputError("remap: min_inner_points must be >= 1 and spacing > 0");
@@ -330,24 +334,34 @@ Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Ed
   out.iterations = Eigen::VectorXi::Zero(K);
   out.rerouted = Eigen::VectorXi::Zero(K);
   std::vector<LinkResult> results(K);
-  tbb::parallel_for(0, K, [&](int l) {
-    const int a = links(l, 0), b = links(l, 1);
-    results[l] = snake_link(nodes.row(a).transpose(), nodes.row(b).transpose(), radii[a], radii[b],
-                            field, waypoints, options);
-  });
+  internal::ThrottledProgress tick(progress, kStage, from, to);
+  tick(0);
+  // Links are independent: a few per thread at a time (a link takes a few ms), polled between.
+  auto snake_links = [&](const std::vector<int>& which, const Points& through, double a, double b) {
+    internal::parallel_chunks(static_cast<int>(which.size()), internal::per_thread(2), 1,
+                              tick.part(a, b), [&](const tbb::blocked_range<int>& r) {
+                                for (int k = r.begin(); k != r.end(); ++k) {
+                                  const int l = which[k], p = links(l, 0), q = links(l, 1);
+                                  results[l] =
+                                      snake_link(nodes.row(p).transpose(), nodes.row(q).transpose(),
+                                                 radii[p], radii[q], field, through, options);
+                                }
+                              });
+  };
+  std::vector<int> every(K);
+  std::iota(every.begin(), every.end(), 0);
+  snake_links(every, waypoints, 0, 0.7);
   // Links with no route: again, with the extra waypoints as well.
   std::vector<int> unrouted;
   for (int l = 0; l < K; ++l)
     if (results[l].unrouted) unrouted.push_back(l);
   if (!unrouted.empty() && more_waypoints) {
-    const Points more = more_waypoints();
+    tick(0.7);
+    const Points more =
+        more_waypoints(progress, from + 0.7 * (to - from), from + 0.8 * (to - from));
     Points all(waypoints.rows() + more.rows(), 3);
     all << waypoints, more;
-    tbb::parallel_for(0, static_cast<int>(unrouted.size()), [&](int k) {
-      const int l = unrouted[k], a = links(l, 0), b = links(l, 1);
-      results[l] = snake_link(nodes.row(a).transpose(), nodes.row(b).transpose(), radii[a],
-                              radii[b], field, all, options);
-    });
+    snake_links(unrouted, all, 0.8, 1);
   }
   for (int l = 0; l < K; ++l) {
     out.polylines[l] = std::move(results[l].polyline);
@@ -359,23 +373,30 @@ Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Ed
   return out;
 }
 
-Points chord_midpoints(const Mesh& mesh, const SurfaceQuery& surface) {
+Points chord_midpoints(const Mesh& mesh, const SurfaceQuery& surface, const Progress& progress,
+                       double from, double to) {
   const Eigen::Index nf = mesh.F.rows();
   Points mid(nf, 3);
   std::vector<char> ok(static_cast<std::size_t>(nf), 0);
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nf, 512),
-                    [&](const tbb::blocked_range<Eigen::Index>& range) {
-    for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
-      const Eigen::Vector3d& n = surface.face_normal(static_cast<int>(f));
-      if (n.isZero()) continue;
-      const Eigen::Vector3d c =
-          (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3.0;
-      if (const auto m = internal::chord_middle(surface, c - 1e-7 * n, -n)) {
-        mid.row(f) = m->transpose();
-        ok[static_cast<std::size_t>(f)] = 1;
-      }
-    }
-  });
+  internal::ThrottledProgress tick(progress, kStage, from, to);
+  // Faces are independent: in chunks, polled between.
+  const auto chunk = static_cast<Eigen::Index>(internal::per_thread(2048));
+  internal::parallel_chunks(
+      nf, chunk, Eigen::Index{512}, tick.part(0, 1),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        for (Eigen::Index f = range.begin(); f != range.end(); ++f) {
+          const Eigen::Vector3d& n = surface.face_normal(static_cast<int>(f));
+          if (n.isZero()) continue;
+          const Eigen::Vector3d c =
+              (mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2)))
+                  .transpose() /
+              3.0;
+          if (const auto m = internal::chord_middle(surface, c - 1e-7 * n, -n)) {
+            mid.row(f) = m->transpose();
+            ok[static_cast<std::size_t>(f)] = 1;
+          }
+        }
+      });
   Eigen::Index k = 0;
   for (Eigen::Index f = 0; f < nf; ++f)
     if (ok[static_cast<std::size_t>(f)]) mid.row(k++) = mid.row(f);

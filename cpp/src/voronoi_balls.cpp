@@ -29,6 +29,7 @@
 #include "dcg/errors.h"
 #include "dcg/options.h"
 #include "dcg/surface_query.h"
+#include "polling.h"
 
 namespace dcg {
 namespace {
@@ -85,9 +86,10 @@ std::vector<Eigen::Vector3d> surface_candidates(const Mesh& mesh, int count, uns
   return pts;
 }
 
-// Farthest-point sampling of `k` points among `pts` (Euclidean), first one chosen by `seed`.
+// Farthest-point sampling of `k` points among `pts` (Euclidean), first one chosen by `seed`;
+// `at` (if set) is polled with the fraction picked every 64 points.
 std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k, unsigned seed,
-                                 const std::function<void()>& poll) {
+                                 const std::function<void(double)>& at) {
   const int n = static_cast<int>(pts.size());
   if (k >= n) {
     std::vector<int> all(n);
@@ -137,7 +139,7 @@ std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k,
   int next = static_cast<int>(rng() % static_cast<unsigned>(n));
   double radius2 = std::numeric_limits<double>::infinity();
   while (static_cast<int>(chosen.size()) < k) {
-    if (poll && (chosen.size() & 63) == 0) poll();
+    if (at && (chosen.size() & 63) == 0) at(static_cast<double>(chosen.size()) / k);
     chosen.push_back(next);
     const Eigen::Vector3d s = pts[next];
     d2[next] = 0;
@@ -184,30 +186,33 @@ std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k,
 // outside meets a face from the front or nothing) AND ray parity puts it outside too. Cost: two
 // first-hit rays per ball, parity only for the few that fail them (~7 ms on the hand's 13k
 // balls; parity for every ball took 40 ms); on the closed public meshes it drops nothing.
-Balls drop_balls_outside(Balls balls, const SurfaceQuery& query) {
+// In chunks of balls, with `at` polled between them.
+Balls drop_balls_outside(Balls balls, const SurfaceQuery& query,
+                         const std::function<void(double)>& at) {
   const Eigen::Index n = balls.radii.size();
   std::vector<char> keep(static_cast<std::size_t>(n), 1);
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 256),
-                    [&](const tbb::blocked_range<Eigen::Index>& r) {
-                      for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
-                        const Eigen::Vector3d c = balls.centers.row(i).transpose();
-                        for (int k = 0; k < 2 && keep[i]; ++k) {
-                          // Golden-angle spiral directions, indexed by ball and ray.
-                          const double j = static_cast<double>(2 * i + k) + 0.5;
-                          const double z = 1.0 - 2.0 * std::fmod(j * 0.6180339887498949, 1.0);
-                          const double phi = j * 2.399963229728653;
-                          const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-                          const Eigen::Vector3d d(s * std::cos(phi), s * std::sin(phi), z);
-                          int face = -1;
-                          const double t = query.ray_hit(c, d, &face);
-                          keep[i] = std::isfinite(t) && face >= 0 && query.face_normal(face).dot(d) > 0;
-                        }
-                        // A ray may also meet a face from the front inside the shape where the
-                        // mesh intersects itself (cow: ears through the head): ray parity,
-                        // which counts every crossing, has the last word.
-                        if (!keep[i]) keep[i] = query.inside_by_parity(c) ? 1 : 0;
-                      }
-                    });
+  internal::parallel_chunks(
+      n, static_cast<Eigen::Index>(internal::per_thread(1024)), Eigen::Index{256}, at,
+      [&](const tbb::blocked_range<Eigen::Index>& r) {
+        for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
+          const Eigen::Vector3d c = balls.centers.row(i).transpose();
+          for (int k = 0; k < 2 && keep[i]; ++k) {
+            // Golden-angle spiral directions, indexed by ball and ray.
+            const double j = static_cast<double>(2 * i + k) + 0.5;
+            const double z = 1.0 - 2.0 * std::fmod(j * 0.6180339887498949, 1.0);
+            const double phi = j * 2.399963229728653;
+            const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+            const Eigen::Vector3d d(s * std::cos(phi), s * std::sin(phi), z);
+            int face = -1;
+            const double t = query.ray_hit(c, d, &face);
+            keep[i] = std::isfinite(t) && face >= 0 && query.face_normal(face).dot(d) > 0;
+          }
+          // A ray may also meet a face from the front inside the shape where the
+          // mesh intersects itself (cow: ears through the head): ray parity,
+          // which counts every crossing, has the last word.
+          if (!keep[i]) keep[i] = query.inside_by_parity(c) ? 1 : 0;
+        }
+      });
   Eigen::Index m = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!keep[i]) continue;
@@ -224,21 +229,24 @@ Balls drop_balls_outside(Balls balls, const SurfaceQuery& query) {
 }  // namespace
 
 Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
-                            const VoronoiBallsOptions& options,
-                            const std::function<void()>& poll) {
+                            const VoronoiBallsOptions& options, const Progress& progress,
+                            double from, double to) {
   check_option("samples", options.samples);
   if (mesh.F.rows() < 4 || mesh.V.rows() < 4) throw InputError("voronoi balls: empty mesh");
+  internal::ThrottledProgress tick(progress, "voronoi_balls", from, to);
+  tick(0);
   std::vector<int> candidate_face;
   const std::vector<Eigen::Vector3d> candidates =
       surface_candidates(mesh, 6 * options.samples, options.seed, candidate_face);
-  const std::vector<int> picked = farthest_points(candidates, options.samples, options.seed, poll);
+  const std::vector<int> picked =
+      farthest_points(candidates, options.samples, options.seed, tick.part(0, 0.3));
 
   std::vector<std::pair<Delaunay::Point, int>> points;
   points.reserve(picked.size());
   for (int i : picked) points.emplace_back(Delaunay::Point(candidates[i].x(), candidates[i].y(), candidates[i].z()), i);
-  if (poll) poll();
+  tick(0.3);
   Delaunay dt(points.begin(), points.end());
-  if (poll) poll();
+  tick(0.45);
 
   const Eigen::RowVector3d lo = mesh.V.colwise().minCoeff(), hi = mesh.V.colwise().maxCoeff();
   std::vector<Eigen::Vector3d> centers;
@@ -257,18 +265,15 @@ Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
   }
   std::vector<double> radius(centers.size(), -1.0);
   // In chunks, polling between them (never from TBB's workers).
-  constexpr std::size_t kChunk = 4096;
-  for (std::size_t chunk = 0; chunk < centers.size(); chunk += kChunk) {
-    if (poll) poll();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(chunk, std::min(centers.size(), chunk + kChunk), 256),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                          const double sd = query.signed_distance(centers[i], candidates[hint[i]],
-                                                                  candidate_face[hint[i]]);
-                          if (sd < 0) radius[i] = -sd;
-                        }
-                      });
-  }
+  internal::parallel_chunks(
+      centers.size(), std::size_t(internal::per_thread(1024)), std::size_t{256},
+      tick.part(0.45, 0.9), [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const double sd =
+              query.signed_distance(centers[i], candidates[hint[i]], candidate_face[hint[i]]);
+          if (sd < 0) radius[i] = -sd;
+        }
+      });
   std::size_t kept = 0;
   for (double r : radius)
     if (r > 0) ++kept;
@@ -282,7 +287,7 @@ Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
     balls.radii[j] = radius[i];
     ++j;
   }
-  return drop_balls_outside(std::move(balls), query);
+  return drop_balls_outside(std::move(balls), query, tick.part(0.9, 1));
 }
 
 int voronoi_samples(const VoronoiBallsOptions& options, const PrepareOptions& prepare,

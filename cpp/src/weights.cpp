@@ -296,9 +296,8 @@ void BoneHeat::nearest_visible_bones(const Bones& bones, Eigen::VectorXi& bone,
   }
 }
 
-Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& options,
-                                const Progress& progress, double from, double to,
-                                Report* report) const {
+Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& options, Report* report,
+                                const Progress& progress, double from, double to) const {
   options.validate();
   check_bones(bones);
   const Impl& m = *impl_;
@@ -429,7 +428,7 @@ SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
   BoneHeat heat(working);
   out.timings.emplace_back("laplacian", seconds_since(start));
   BoneHeat::Report report;
-  const Eigen::MatrixXd W = heat.solve(normalized, options, progress, at(0.05), at(0.9), &report);
+  const Eigen::MatrixXd W = heat.solve(normalized, options, &report, progress, at(0.05), at(0.9));
   out.timings.insert(out.timings.end(), report.timings.begin(), report.timings.end());
   out.unseen_vertices = report.unseen_vertices;
   out.blind_components = report.blind_components;
@@ -515,20 +514,21 @@ SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
 }  // namespace
 
 SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bones,
-                                 const WeightsOptions& options, ProgressCallback callback) {
-  return skin_weights(prepared, bones, options, Progress(std::move(callback)), 0, 1);
+                                 const WeightsOptions& options, const Progress& progress,
+                                 double from, double to) {
+  return skin_weights(prepared, bones, options, progress, from, to);
 }
 
 SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
-                                 const Options& options, ProgressCallback callback) {
+                                 const Options& options, const Progress& progress, double from,
+                                 double to) {
   options.validate();
   check_bones(bones);
   const auto start = Clock::now();
-  const Progress progress(std::move(callback));
-  progress.report("prepare", 0.0);
-  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare_options(), progress, 0.0, 0.5);
+  const double half = from + 0.5 * (to - from);
+  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare_options(), progress, from, half);
   const double prepare_seconds = seconds_since(start);
-  SkinWeights out = skin_weights(prepared, bones, options.weights, progress, 0.5, 1.0);
+  SkinWeights out = skin_weights(prepared, bones, options.weights, progress, half, to);
   out.timings.insert(out.timings.begin(), {"prepare", prepare_seconds});
   out.timings.back().second += prepare_seconds;
   return out;

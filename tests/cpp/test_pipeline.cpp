@@ -255,6 +255,65 @@ TEST(Pipeline, PublicOpenScanCancelStopsWithinHalfASecondAndResumesWhole) {
   expect_cancel_latency("bunny-scan-open.obj");
 }
 
+// Every stage polls while it works (dcg/progress.h): on a mid-size mesh, each stage of the
+// Extractor that lasts 50 ms or more calls back at least 3 times, and its longest stretch
+// without a call (from one of its calls to the next call, whatever stage that is in) is under
+// half the stage. (Before every stage polled, stages 3, 5, 6 and 7 called back once, as they
+// started: one stretch as long as the stage.) Relative to the stage's own length, so that a
+// loaded machine, slowing the whole stage, does not make it fail; the absolute gaps are printed
+// (about 10-20 ms for every stage but 0 and 1, whose CGAL steps run 30-60 ms without a call).
+struct PollTrace {
+  std::vector<std::string> order;         // stages in the order of their first call
+  std::map<std::string, int> calls;       // calls per stage
+  std::map<std::string, double> seconds;  // from the stage's first call to the next stage's
+  std::map<std::string, double> gap;      // longest time from one of its calls to the next call
+  std::map<std::string, double> gap_at;   // the fraction reported where that gap starts
+};
+
+PollTrace trace_polls(const dcg::Mesh& mesh) {
+  PollTrace t;
+  Clock::time_point last = Clock::now(), stage_start = last;
+  std::string current;
+  double fraction = 0;
+  dcg::Extractor extractor(mesh.V, mesh.F, {}, [&](const std::string& s, double f) {
+    const Clock::time_point now = Clock::now();
+    if (!current.empty() && seconds_between(last, now) >= t.gap[current]) {
+      t.gap[current] = seconds_between(last, now);
+      t.gap_at[current] = fraction;
+    }
+    if (t.calls.count(s) == 0) {
+      if (!current.empty()) t.seconds[current] = seconds_between(stage_start, now);
+      t.order.push_back(s);
+      stage_start = now;
+    }
+    ++t.calls[s];
+    current = s;
+    fraction = f;
+    last = now;
+    return true;
+  });
+  extractor.skeleton();
+  return t;
+}
+
+TEST(Pipeline, PublicEveryStagePollsWhileItWorks) {
+  std::string path = dcg::test::meshes_dir() + "/horse.ply";
+  if (!std::filesystem::exists(path)) path = repo_file("data/spot.obj");
+  const PollTrace t = trace_polls(dcg::read_mesh(path));
+  std::string report;
+  for (const std::string& stage : t.order) {
+    if (stage == "done") continue;
+    const double seconds = t.seconds.at(stage), gap = t.gap.at(stage);
+    report += " " + stage + " " + std::to_string(t.calls.at(stage)) + " calls, " +
+              std::to_string(seconds) + " s, gap " + std::to_string(gap) + " s at " +
+              std::to_string(t.gap_at.at(stage)) + ";";
+    if (seconds < 0.05) continue;
+    EXPECT_GE(t.calls.at(stage), 3) << stage << " lasts " << seconds << " s";
+    EXPECT_LE(gap, 0.5 * seconds) << stage << " lasts " << seconds << " s";
+  }
+  std::printf("[ polls, %s:%s ]\n", path.c_str(), report.c_str());
+}
+
 TEST(Pipeline, SameInputSameSkeleton) {
   const dcg::Mesh mesh = dcg::read_mesh(repo_file("data/meshes/torus.off"));
   dcg::Options options;

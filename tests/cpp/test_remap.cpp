@@ -115,7 +115,7 @@ TEST(Remap, ALinkWithNoRouteTriesTheExtraWaypoints) {
   TorusField t;
   const AcrossTheHole link;
   int asked = 0;
-  auto ring = [&] {
+  auto ring = [&](const dcg::Progress&, double, double) {
     ++asked;
     return core_circle(24);
   };

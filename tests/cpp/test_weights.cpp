@@ -164,7 +164,7 @@ TEST(WeightsVisibility, APartThatSeesNoBoneTakesTheNearestBoneThroughTheVolume) 
   const Bones bones = bones_from({{{0, 0, -0.5}, {0, 0, 0.5}}, {{5, 0, 3}, {5, 0, 4}}});
   dcg::BoneHeat heat(m);
   dcg::BoneHeat::Report report;
-  const Eigen::MatrixXd W = heat.solve(bones, {}, dcg::Progress(), 0, 1, &report);
+  const Eigen::MatrixXd W = heat.solve(bones, {}, &report);
   EXPECT_EQ(report.blind_components, 0);
   EXPECT_GT(report.unseen_vertices, 0);
   for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
@@ -182,7 +182,7 @@ TEST(WeightsVisibility, AClosedPartAroundNoBoneIsStillWeighted) {
   const Bones bones = bones_from({{{-0.5, 0, 0}, {0, 0, 0}}, {{0, 0, 0}, {0.5, 0, 0}}});
   dcg::BoneHeat heat(m);
   dcg::BoneHeat::Report report;
-  const Eigen::MatrixXd W = heat.solve(bones, {}, dcg::Progress(), 0, 1, &report);
+  const Eigen::MatrixXd W = heat.solve(bones, {}, &report);
   EXPECT_EQ(report.blind_components, 1);
   EXPECT_EQ(report.unseen_vertices, b.V.rows());
   for (Eigen::Index v = 0; v < m.V.rows(); ++v) {

@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include "dcg/progress.h"
 #include "dcg/types.h"
 
 namespace dcg {
@@ -55,8 +56,11 @@ struct ConnectionPoints {
 
 /// domain_points: #D by 3 domain points (stage 2 centers; end points excluded), inside the closed
 /// mesh of `field`. Points are shrunk in parallel (TBB); the result does not depend on threads.
+/// Progress as stage "connection_points", see dcg/progress.h.
 ConnectionPoints compute_connection_points(const Points& domain_points, const ForceField& field,
-                                           const ConnectionPointsOptions& options = {});
+                                           const ConnectionPointsOptions& options = {},
+                                           const Progress& progress = {}, double from = 0,
+                                           double to = 1);
 
 /// The greedy merge alone (exposed for tests): points #D by 3, magnitude #D, radii #D.
 /// Returns #D cluster indices; survivors[c] is the point that cluster c keeps.

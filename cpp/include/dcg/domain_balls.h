@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "dcg/progress.h"
 #include "dcg/types.h"
 
 namespace dcg {
@@ -21,6 +22,8 @@ struct DomainBalls {
 
 /// Accepts candidates largest first when they intersect no accepted ball (spatial grid, never
 /// all pairs).
-DomainBalls compute_domain_balls(const Balls& candidates, const DomainBallsOptions& options = {});
+/// Progress as stage "domain_balls", see dcg/progress.h.
+DomainBalls compute_domain_balls(const Balls& candidates, const DomainBallsOptions& options = {},
+                                 const Progress& progress = {}, double from = 0, double to = 1);
 
 }  // namespace dcg

@@ -66,6 +66,7 @@
 
 #include <Eigen/Core>
 
+#include "dcg/progress.h"
 #include "dcg/skeleton.h"
 #include "dcg/types.h"
 
@@ -120,8 +121,10 @@ struct DomainGraph {
 /// points: #P by 3 inside the shape; radii: #P distance to the surface; prong: #P prong index
 /// (>= 0: an end point that must stay a leaf), -1 for connection points.
 /// genus: the mesh's genus, the most cycles kept.
+/// Progress as stage "domain_graph", see dcg/progress.h.
 DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, const Points& points,
                                  const Eigen::VectorXd& radii, const Eigen::VectorXi& prong,
-                                 int genus, const DomainGraphOptions& options = {});
+                                 int genus, const DomainGraphOptions& options = {},
+                                 const Progress& progress = {}, double from = 0, double to = 1);
 
 }  // namespace dcg

@@ -4,9 +4,8 @@
 // segments are moved inside.
 #pragma once
 
-#include <functional>
-
 #include "dcg/prepare.h"
+#include "dcg/progress.h"
 #include "dcg/skeleton.h"
 #include "dcg/types.h"
 
@@ -19,13 +18,16 @@ class SurfaceQuery;
 /// not at least 1e-7 inside moves along the way to its closest surface point to the deepest of
 /// a few depths (a fraction of its radius, half the part's thickness there) that is inside; a
 /// segment that crosses the surface is split at its midpoint (held inside the same way), at most
-/// 6 halvings deep. `poll` (if set) is called between nodes and links, for cancellation.
-void keep_inside(Skeleton& s, const SurfaceQuery& surface, const std::function<void()>& poll = {});
+/// 6 halvings deep. Progress as stage "skeleton" (between nodes and links), see dcg/progress.h;
+/// a cancelled call leaves `s` partly moved.
+void keep_inside(Skeleton& s, const SurfaceQuery& surface, const Progress& progress = {},
+                 double from = 0, double to = 1);
 
 /// keep_inside() against the input's own surface (V #V by 3, F #F by 3) when stage 0 remeshed a
 /// closed manifold input (`prepared`), else against the working mesh (`working_surface`).
-void keep_inside_input(Skeleton& s, const PreparedMesh& prepared, const Vertices& V,
-                       const Faces& F, const SurfaceQuery& working_surface,
-                       const std::function<void()>& poll = {});
+/// Progress as stage "skeleton" (also while it indexes the input), see dcg/progress.h.
+void keep_inside_input(Skeleton& s, const PreparedMesh& prepared, const Vertices& V, const Faces& F,
+                       const SurfaceQuery& working_surface, const Progress& progress = {},
+                       double from = 0, double to = 1);
 
 }  // namespace dcg

@@ -96,11 +96,9 @@ void validate_mesh(const Vertices& V, const Faces& F);
 /// vertices all lie in one plane, or that has fewer than 4 faces left after dropping degenerate
 /// ones), or when the mesh is not a single closed manifold and options.repair is Repair::None
 /// (the message gives border edges and loops, non-manifold edges and vertices, components).
-/// `progress` gets stage "prepare" with fractions from `from` to `to` of the caller's whole run,
-/// at most every 10 ms (also from inside the CGAL steps); Cancelled when it asks to stop.
+/// Progress as stage "prepare" (also from inside the CGAL steps), see dcg/progress.h.
 PreparedMesh prepare_mesh(const Vertices& V, const Faces& F, const PrepareOptions& options = {},
-                          const Progress& progress = Progress(), double from = 0,
-                          double to = 0);
+                          const Progress& progress = {}, double from = 0, double to = 1);
 
 /// Genus from the Euler characteristic, summed over the connected components of (V, F):
 /// V - E + F = 2 - 2g per closed component.

@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 
+#include "dcg/progress.h"
 #include "dcg/types.h"
 
 namespace dcg {
@@ -46,7 +47,9 @@ struct ScaleFunction {
 
 /// The sampled scale function on (V, F). Sources run in parallel (TBB); the result does not
 /// depend on the number of threads. Throws InputError for an empty mesh or bad indices.
-ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOptions& options = {});
+/// Progress as stage "prongs", see dcg/progress.h.
+ScaleFunction compute_scale_function(const Mesh& mesh, const ScaleFunctionOptions& options = {},
+                                     const Progress& progress = {}, double from = 0, double to = 1);
 
 /// The exact O(n^2) sums, for tests and small meshes: f(v) = sum_i A_i d(v, v_i) / sum_i A_i with
 /// A_i the vertex areas (area_weighted), or the paper's plain mean (1/n) sum_i d(v, v_i).
@@ -78,7 +81,9 @@ class ProngHierarchy {
  public:
   ProngHierarchy() = default;
   /// mesh: V #V by 3, F #F by 3; f: #V scale function values. Throws InputError on size mismatch.
-  ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f);
+  /// Progress as stage "prongs", see dcg/progress.h.
+  ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f, const Progress& progress = {},
+                 double from = 0, double to = 1);
 
   /// Every local maximum of f (plateaus count once), sorted by increasing ratio.
   const std::vector<Peak>& peaks() const { return peaks_; }
@@ -110,6 +115,8 @@ struct ProngFeatures {
 };
 
 /// Stage 3 on a closed working mesh (normalized units). Throws InputError for bad options.
-ProngFeatures compute_prongs(const Mesh& mesh, const ProngOptions& options = {});
+/// Progress as stage "prongs" (the geodesics, then the watershed), see dcg/progress.h.
+ProngFeatures compute_prongs(const Mesh& mesh, const ProngOptions& options = {},
+                             const Progress& progress = {}, double from = 0, double to = 1);
 
 }  // namespace dcg

@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include "dcg/progress.h"
 #include "dcg/types.h"
 
 namespace dcg {
@@ -52,19 +53,23 @@ struct Remapped {
 
 /// nodes: #N by 3 node positions inside the shape; radii: #N distance to the surface; links:
 /// #K by 2 node pairs; waypoints: #W by 3 points inside the shape (for links that leave it).
-/// more_waypoints (optional): called once when some link found no route through `waypoints`;
-/// those links try again through both (denser points, costlier to make: see pipeline.cpp's
-/// chord_midpoints below).
+/// more_waypoints (optional): called once when some link found no route through `waypoints`,
+/// with the progress range it may report in; those links try again through both (denser points,
+/// costlier to make: see pipeline.cpp's chord_midpoints below).
 /// Links run in parallel (TBB); the result does not depend on threads.
+/// Progress as stage "remap", see dcg/progress.h.
+using MoreWaypoints = std::function<Points(const Progress& progress, double from, double to)>;
 Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Edges& links,
                      const ForceField& field, const Points& waypoints,
-                     const RemapOptions& options = {},
-                     const std::function<Points()>& more_waypoints = {});
+                     const RemapOptions& options = {}, const MoreWaypoints& more_waypoints = {},
+                     const Progress& progress = {}, double from = 0, double to = 1);
 
 /// Waypoints for links no other waypoint routes: the middle of the inward chord from each
 /// face's centroid of `mesh` (along minus its normal), for the faces whose chord ends on the
 /// surface and whose middle is inside: one point in the middle of the shape behind every face,
 /// thin parts included. `surface` is a SurfaceQuery of `mesh`.
-Points chord_midpoints(const Mesh& mesh, const SurfaceQuery& surface);
+/// Progress as stage "remap", see dcg/progress.h.
+Points chord_midpoints(const Mesh& mesh, const SurfaceQuery& surface, const Progress& progress = {},
+                       double from = 0, double to = 1);
 
 }  // namespace dcg

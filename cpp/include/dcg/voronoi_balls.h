@@ -2,9 +2,8 @@
 // the Voronoi vertices (Delaunay circumcenters) of surface samples.
 #pragma once
 
-#include <functional>
-
 #include "dcg/prepare.h"
+#include "dcg/progress.h"
 #include "dcg/types.h"
 
 namespace dcg {
@@ -23,11 +22,10 @@ struct VoronoiBallsOptions {
 /// `mesh` is the closed working mesh of stage 0; `query` is a SurfaceQuery built on it.
 /// A circumcenter that a fold of a noisy mesh puts on the wrong side passes the sign test; the
 /// balls whose centers two rays and ray parity put outside are dropped as well.
-/// `poll` (if set) is called every few milliseconds from this thread; an exception it throws
-/// (Cancelled) stops the stage.
+/// Progress as stage "voronoi_balls", see dcg/progress.h.
 Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
-                            const VoronoiBallsOptions& options = {},
-                            const std::function<void()>& poll = {});
+                            const VoronoiBallsOptions& options = {}, const Progress& progress = {},
+                            double from = 0, double to = 1);
 
 /// The samples stage 1 takes (at most options.samples) on a working mesh of `working_faces`
 /// faces made by stage 0 with `prepare`: a small input kept as it is (upsample off) gets one per

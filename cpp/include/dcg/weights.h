@@ -109,12 +109,12 @@ class BoneHeat {
   };
 
   /// #V by #B weights of the mesh's vertices for `bones` (in the mesh's coordinates), clipped to
-  /// [0, 1]; each row sums to about 1 (exactly 1 before clipping). `progress` gets the stage name
-  /// "weights" and fractions from `from` to `to`. Throws Cancelled, InputError (no bones, a
-  /// non-finite coordinate).
+  /// [0, 1]; each row sums to about 1 (exactly 1 before clipping). `report` (if set) gets what
+  /// it found besides. Progress as stage "weights", see dcg/progress.h. Throws Cancelled,
+  /// InputError (no bones, a non-finite coordinate).
   Eigen::MatrixXd solve(const Bones& bones, const WeightsOptions& options = {},
-                        const Progress& progress = Progress(), double from = 0, double to = 1,
-                        Report* report = nullptr) const;
+                        Report* report = nullptr, const Progress& progress = {}, double from = 0,
+                        double to = 1) const;
 
   /// The cotangent Laplacian L (#V by #V, negative semi-definite, rows summing to 0).
   const Eigen::SparseMatrix<double>& laplacian() const;
@@ -134,15 +134,19 @@ class BoneHeat {
 /// INPUT's coordinates: bone heat on the working mesh, interpolated at each input vertex's
 /// mapped point (map_face, map_barycentric), then pruned to max_influences and normalized.
 /// The weights are for #V = prepared.map_face.size() vertices. Throws InputError, Cancelled.
+/// Progress as stage "weights", see dcg/progress.h.
 SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bones,
-                                 const WeightsOptions& options = {},
-                                 ProgressCallback progress = {});
+                                 const WeightsOptions& options = {}, const Progress& progress = {},
+                                 double from = 0, double to = 1);
 
 /// The same from the input mesh itself: runs stage 0 first with options.prepare_options(), the
 /// working mesh the skeleton gets with the same options, then uses options.weights.
 /// V #V by 3, F #F by 3 indices into V; bones in V's coordinates.
+/// Progress as stages "prepare" (the first half of [from, to]) and "weights", see
+/// dcg/progress.h (as for the overload above).
 SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
-                                 const Options& options, ProgressCallback progress = {});
+                                 const Options& options, const Progress& progress = {},
+                                 double from = 0, double to = 1);
 
 /// Distance from p to the segment a-b; `t` (if given) receives the parameter of the closest
 /// point a + t (b - a), in [0, 1].
