@@ -59,7 +59,7 @@ void bind_bone_heat(py::module_& m) {
             const dcg::Bones bones = make_bones(heads, tails);
             ProgressBridge bridge(std::move(progress));
             return run_released(bridge, [&] {
-              return heat.solve(bones, o, dcg::Progress(bridge.callback()));
+              return heat.solve(bones, o, nullptr, dcg::Progress(bridge.callback()));
             });
           },
           py::arg("heads"), py::arg("tails"), py::arg("options"),

@@ -2,6 +2,8 @@
 // and the keep-inside pass after stage 8 (dcg/keep_inside.h).
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include <Eigen/Core>
 
 #include "dcg/connection_points.h"
@@ -73,9 +75,13 @@ TEST(KeepInside, NodesAndLinksOutsideTheSurfaceMoveIn) {
   s.links = (dcg::Edges(1, 2) << 0, 1).finished();
   s.polylines = {(dcg::Points(3, 3) << 0, 0, 0, 0.4, 0.4, 0.1, 0.7, 0.7, 0.2).finished()};
   ASSERT_FALSE(surface.inside(s.positions.row(1).transpose()));
-  int polls = 0;
-  dcg::keep_inside(s, surface, [&] { ++polls; });
-  EXPECT_GT(polls, 0);
+  int reports = 0;
+  dcg::keep_inside(s, surface, dcg::Progress([&](const std::string& stage, double) {
+                     EXPECT_EQ(stage, "skeleton");
+                     ++reports;
+                     return true;
+                   }));
+  EXPECT_GT(reports, 0);
   EXPECT_TRUE(surface.inside(s.positions.row(1).transpose()));
   EXPECT_EQ(s.positions.row(0), Eigen::RowVector3d(0, 0, 0));  // inside: left alone
   const dcg::Points& poly = s.polylines[0];
