@@ -148,13 +148,14 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
     V, F = as_mesh(V, F)
     heads, tails = _bones(bones, tails)
     clean = normalize_options(options)
-    if prepared is None:
-        d = _core.skin_weights(V, F, heads, tails, clean, progress)
-    else:
+    if prepared is not None:
         map_face = np.ascontiguousarray(prepared.map_face, dtype=np.int64).reshape(-1)
         if len(map_face) != len(V):
             raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
                              "pass the PreparedMesh of this mesh")
+    if prepared is None or not _core.weights_on_working_mesh(len(F), clean):
+        d = _core.skin_weights(V, F, heads, tails, clean, progress)
+    else:
         d = _core.skin_weights_prepared(
             np.ascontiguousarray(prepared.vertices, dtype=np.float64),
             np.ascontiguousarray(prepared.faces, dtype=np.int64), float(prepared.scale),

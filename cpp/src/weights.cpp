@@ -519,6 +519,11 @@ SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bone
   return skin_weights(prepared, bones, options, Progress(std::move(callback)), 0, 1);
 }
 
+bool weights_on_working_mesh(Eigen::Index faces, const PrepareOptions& options) {
+  return options.target_faces > 0 &&
+         static_cast<double>(faces) > kNearTarget * options.target_faces;
+}
+
 SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
                                  const Options& options, ProgressCallback callback) {
   options.validate();
@@ -526,7 +531,10 @@ SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones&
   const auto start = Clock::now();
   const Progress progress(std::move(callback));
   progress.report("prepare", 0.0);
-  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare_options(), progress, 0.0, 0.5);
+  const PreparedMesh prepared =
+      weights_on_working_mesh(F.rows(), options.prepare)
+          ? prepare_mesh(V, F, options.prepare_options(), progress, 0.0, 0.5)
+          : prepare_input(V, F, options.prepare_options(), progress, 0.0, 0.5);
   const double prepare_seconds = seconds_since(start);
   SkinWeights out = skin_weights(prepared, bones, options.weights, progress, 0.5, 1.0);
   out.timings.insert(out.timings.begin(), {"prepare", prepare_seconds});

@@ -1,6 +1,7 @@
 // Stage 9 (ALGORITHM.md "Weights", beyond the paper): skinning weights by bone heat, computed on
-// the closed working mesh of stage 0 and carried to the input vertices through its map, so that
-// open, multi-part and non-manifold inputs are weighted too, at any scale.
+// the input mesh itself (welded; per connected part, each with the bones it sees) or, for a large
+// input, on the working mesh of stage 0 and carried to the input vertices through its map; open,
+// multi-part and non-manifold inputs are weighted everywhere, at any scale.
 //
 // Bone heat (Baran & Popovic 2007, "Automatic rigging and animation of 3D characters"): the
 // weights w_i of bone i on the working mesh solve
@@ -138,11 +139,20 @@ SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bone
                                  const WeightsOptions& options = {},
                                  ProgressCallback progress = {});
 
-/// The same from the input mesh itself: runs stage 0 first with options.prepare_options(), the
-/// working mesh the skeleton gets with the same options, then uses options.weights.
+/// The same from the input mesh itself, with options.weights: bone heat on the input (stage 0's
+/// cleaning only, prepare_input: welded cracks, no repair, no remeshing), each connected part
+/// weighted by the bones it sees, as Blender's bone heat does, so that parts are never glued
+/// together and the weights follow the artist's surface exactly. A large input (see
+/// weights_on_working_mesh) is solved on stage 0's working mesh instead (prepare_mesh with
+/// options.prepare_options(), the mesh the skeleton gets) and carried back through its map.
 /// V #V by 3, F #F by 3 indices into V; bones in V's coordinates.
 SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
                                  const Options& options, ProgressCallback progress = {});
+
+/// Whether compute_skin_weights solves an input of `faces` faces on stage 0's working mesh: when
+/// it has more than kNearTarget x target_faces faces (target_faces > 0), where one solve per
+/// bone on every input vertex would cost more than the remeshed working mesh and the transfer.
+bool weights_on_working_mesh(Eigen::Index faces, const PrepareOptions& options);
 
 /// Distance from p to the segment a-b; `t` (if given) receives the parameter of the closest
 /// point a + t (b - a), in [0, 1].
