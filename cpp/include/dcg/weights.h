@@ -3,24 +3,30 @@
 // input, on the working mesh of stage 0 and carried to the input vertices through its map; open,
 // multi-part and non-manifold inputs are weighted everywhere, at any scale.
 //
-// Bone heat (Baran & Popovic 2007, "Automatic rigging and animation of 3D characters"): the
-// weights w_i of bone i on the working mesh solve
+// Bone heat (Baran & Popovic 2007, "Automatic rigging and animation of 3D characters"), with
+// the details of Blender's implementation (meshlaplacian.cc), which deforms closer to artists'
+// weights than the paper's plain form: the weights w_i of bone i on the mesh solve
 //
 //     (-L + M H) w_i = M H p_i
 //
 // L  #W by #W cotangent Laplacian (L_jk = (cot a + cot b) / 2, rows summing to 0),
-// M  #W diagonal vertex areas (a third of the incident triangles' areas),
-// H  #W diagonal heat: H_j = c / d_j^2, d_j the distance from vertex j to its nearest *visible*
-//    bone (the segment from the vertex to the bone's closest point does not cross the surface),
-// p_i  #W 1 where bone i is that nearest visible bone (1/k when k bones tie), else 0.
+// M  #W diagonal mixed Voronoi vertex areas (Meyer et al. 2003; they sum to the surface area),
+// H  #W diagonal heat: H_j = k c / d_j^2 for the k bones tied nearest to vertex j (each gets the
+//    full heat), d_j = |x_j - q| / ((1.001 + cos) / 2), q the closest point of the bone, cos the
+//    cosine between x_j - q and the vertex normal: a bone behind the surface (the normal points
+//    towards it) counts as far,
+// p_i  #W 1/k where bone i is one of those k nearest bones, else 0.
 //
+// Which bones heat a vertex, per connected part of the mesh, strictest rule first: the nearest
+// bones if *visible* (the segment from the vertex to q crosses no surface; a hidden nearest bone
+// leaves the vertex unheated, as in Blender); for a part where that heats no vertex, the nearest
+// visible bones; for a part that sees no bone at all, the nearest bones through the volume
+// (plain distance), so that the system is never singular (Blender fails there).
 // (M^-1 L is the paper's area-normalized Laplacian; multiplying by M makes the matrix
 // symmetric positive definite, so one sparse Cholesky factorization (LDL^T) serves every bone.)
-// A vertex that sees no bone gets H_j = 0: its weights are whatever diffuses to it along the
-// surface from its neighbours. A connected part of the working mesh in which no vertex sees any
-// bone gets the nearest bone of each vertex instead (through the volume, visibility ignored), so
-// the system is never singular. Since the p_i sum to 1 wherever H > 0, the w_i sum to 1
-// everywhere; small negative values (obtuse triangles) are clipped.
+// An unheated vertex gets whatever diffuses to it along the surface from its neighbours. Since
+// the p_i sum to 1 wherever H > 0, the w_i sum to 1 everywhere; small negative values (obtuse
+// triangles) are clipped.
 //
 // Everything runs in normalized units (bounding-box diagonal 1), so the result does not depend
 // on the input's scale: Blender's bone heat fails on small meshes, this does not.
@@ -46,9 +52,11 @@ struct WeightsOptions {
   /// Largest number of bones weighting one input vertex (the strongest are kept, then the row is
   /// renormalized). Blender's Armature modifier takes any number; game engines want 4.
   int max_influences = 4;
-  /// c of H = c / d^2 (Baran & Popovic use 1): larger values bind vertices more rigidly to their
-  /// nearest bone, smaller ones blend more widely.
-  double heat = 1.0;
+  /// c of H = c / d^2: larger values bind vertices more rigidly to their nearest bone, smaller
+  /// ones blend more widely. Baran & Popovic use 1 with M^-1 L; Blender's bone heat uses 1 with
+  /// L / (4 M), which is 4 here, and 4 also measures best against artists' weights (mean L1 on
+  /// the rigged characters: 0.42 at 2, 0.40 at 4, 0.42 at 8).
+  double heat = 4.0;
   /// Faint weights fade out: a weight w below min_weight becomes (w - m/2) / (m/2) * m with
   /// m = min_weight, and 0 below m/2 (Blender's bone heat does the same with 0.05), so far
   /// influences vanish without a visible step. The strongest bone of a vertex is always kept.
@@ -122,7 +130,8 @@ class BoneHeat {
   /// The #V vertex areas (a third of the incident triangles' areas).
   const Eigen::VectorXd& areas() const;
   /// Index of the nearest visible bone of each vertex (-1: sees none) and the distance to it
-  /// (infinity when none), ties resolved to the lowest index.
+  /// (the normal-weighted d of the equations; infinity when none), ties resolved to the lowest
+  /// index.
   void nearest_visible_bones(const Bones& bones, Eigen::VectorXi& bone,
                              Eigen::VectorXd& distance) const;
 
