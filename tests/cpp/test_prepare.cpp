@@ -152,7 +152,8 @@ TEST(PrepareInput, OpenMultiPartAndFlatInputsAreKeptAndMappedOntoTheirCorners) {
   ASSERT_EQ(pm.map_face.size(), m.V.rows());
   for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
     Eigen::RowVector3d p = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
+    for (int k = 0; k < 3; ++k)
+      p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
     const double gap = (pm.to_input(p) - m.V.row(i)).norm();
     if (used[i]) EXPECT_LT(gap, 1e-9 * pm.scale) << i;
     if (i + 1 == m.V.rows()) EXPECT_NEAR(gap, 0.2, 0.01);
