@@ -97,7 +97,15 @@ void bind_weights(py::module_& m) {
       },
       py::arg("V"), py::arg("F"), py::arg("heads"), py::arg("tails"), py::arg("options"),
       py::arg("progress") = py::none(),
-      "Bone heat weights of V's vertices (stage 0 runs first), as SkinWeights.");
+      "Bone heat weights of V's vertices (on V itself, or stage 0's working mesh when large), "
+      "as SkinWeights.");
+  m.def(
+      "weights_on_working_mesh",
+      [](std::int64_t faces, const py::dict& options) {
+        return dcg::weights_on_working_mesh(faces, options_from_dict(options).prepare);
+      },
+      py::arg("faces"), py::arg("options"),
+      "Whether skin_weights solves an input of `faces` faces on stage 0's working mesh.");
   m.def(
       "skin_weights_prepared",
       [](const dcg::Vertices& working_V, const Faces64& working_F, double scale,

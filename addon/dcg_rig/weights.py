@@ -3,10 +3,11 @@
 Methods (the `weights` setting):
 
 - ``DCG`` (the default): the engine's own weights, `dcg.skin_weights`: bone heat on the
-  engine's closed working mesh, carried to every vertex of the mesh (open, several parts,
-  any scale). Computed on the mesh's own vertices and triangles in world space, with the
-  plan's bones in world space. Should the engine refuse the mesh (or be too old to have
-  weights), envelope weights take over, with a warning.
+  mesh itself, each part by the bones it sees (a large mesh: on the engine's working mesh,
+  carried back), every vertex weighted (open, several parts, any scale). Computed on the
+  mesh's own vertices and triangles in world space, with the plan's bones in world space.
+  Should the engine refuse the mesh (or be too old to have weights), envelope weights take
+  over, with a warning.
 - ``BLENDER``: Automatic Weights (bone heat). It fails silently (see ENVIRONMENT.md), so
   every vertex's weight sum is checked; on failure the mesh and armature data are scaled
   by 100 and bone heat runs again; vertices still unweighted get envelope weights, with a

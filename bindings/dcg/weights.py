@@ -1,4 +1,4 @@
-"""Skinning weights (stage 9): bone heat on the closed working mesh, for the input's vertices.
+"""Skinning weights (stage 9): bone heat on the input mesh itself, for the input's vertices.
 
     import dcg
     V, F = dcg.load_mesh("hand.obj")
@@ -11,14 +11,15 @@
     weights = dcg.skin_weights(V, F, dcg.bones.plan_bones(skeleton, bone_detail=1.0))
     weights = dcg.skin_weights(V, F, heads, tails, max_influences=4)
 
-    # reuse stage 0 of an Extractor on the same mesh (no second remeshing):
+    # a large input (more than 2.5 x target_faces faces) is solved on stage 0's working mesh:
+    # reuse an Extractor's instead of running stage 0 again (ignored for other inputs)
     ex = dcg.Extractor(V, F)
     weights = dcg.skin_weights(V, F, heads, tails, prepared=ex.prepare())
 
 Bones are segments in the mesh's own coordinates (Blender: world space when V is). Every vertex
 gets between 1 and max_influences weights, positive and summing to 1, whatever the mesh: open,
-several parts, non-manifold, at any scale (the work is done on the closed working mesh of stage
-0, in normalized units, and carried back through its map). See cpp/include/dcg/weights.h.
+several parts (each weighted by the bones it sees, as Blender's bone heat does), non-manifold,
+at any scale (the work is done in normalized units). See cpp/include/dcg/weights.h.
 """
 
 from __future__ import annotations
@@ -85,12 +86,14 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
     bones, in plan order), or a list of objects with .head and .tail (a plan of another
     bone_detail). Bones are in V's coordinates. Column b of the result is bone b.
 
-    prepared: a dcg.PreparedMesh of this same (V, F) (Extractor.prepare()) to reuse instead of
-    running stage 0 again. options: any of dcg.OPTIONS; the weights use max_influences (4),
-    heat (1.0), min_weight (0.05), tie_tolerance (1e-4) and, when `prepared` is not given, stage
-    0's (repair, target_faces, upsample, seed: the working mesh the skeleton gets with the same
-    options); the skeleton's other options are checked and unused, so the same **options work
-    for both calls. progress(stage, fraction) is
+    The weights solve on (V, F) itself (welded cracks, degenerate faces dropped), unless it has
+    more than 2.5 x target_faces faces: then on stage 0's working mesh, the one the skeleton gets
+    with the same options. prepared: a dcg.PreparedMesh of this same (V, F)
+    (Extractor.prepare()) to reuse in that case instead of running stage 0 again (checked, and
+    unused for a smaller input). options: any of dcg.OPTIONS; the weights use max_influences
+    (4), heat (4.0), min_weight (0.05), tie_tolerance (1e-4), target_faces (what is large) and,
+    for a large input, stage 0's (repair, upsample, seed); the skeleton's other options are
+    checked and unused, so the same **options work for both calls. progress(stage, fraction) is
     called from the calling thread; return False to cancel (raises dcg.Cancelled). The GIL is
     released while the engine works.
 
@@ -102,12 +105,13 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
     V, F = as_mesh(V, F)
     heads, tails = _bones(bones, tails)
     clean = normalize_options(options)
-    if prepared is None:
+    if prepared is not None:
+        map_face = np.ascontiguousarray(prepared.map_face, dtype=np.int64).reshape(-1)
+        if len(map_face) != len(V):
+            raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
+                             "pass the PreparedMesh of this mesh")
+    if prepared is None or not _core.weights_on_working_mesh(len(F), clean):
         return _core.skin_weights(V, F, heads, tails, clean, progress)
-    map_face = np.ascontiguousarray(prepared.map_face, dtype=np.int64).reshape(-1)
-    if len(map_face) != len(V):
-        raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
-                         "pass the PreparedMesh of this mesh")
     return _core.skin_weights_prepared(
         np.ascontiguousarray(prepared.vertices, dtype=np.float64),
         np.ascontiguousarray(prepared.faces, dtype=np.int64), float(prepared.scale),

@@ -441,7 +441,7 @@ void map_input_vertices(const Vertices& Vn, const std::vector<int>& vertex_of,
   out.map_barycentric.resize(nv, 3);
   const bool same = !out.repaired && !out.remeshed;
   const std::vector<int> corner = same ? first_corners(W) : std::vector<int>();
-  const SurfaceQuery& query = *out.query;
+  const SurfaceQuery* query = out.query.get();  // null when every vertex is referenced
   constexpr int kChunk = 1 << 15;
   for (int chunk = 0; chunk < nv; chunk += kChunk) {
     poll(0.87 + 0.13 * chunk / nv);
@@ -456,12 +456,35 @@ void map_input_vertices(const Vertices& Vn, const std::vector<int>& vertex_of,
                             continue;
                           }
                           int f = 0;
-                          const Eigen::Vector3d q = query.closest_point(Vn.row(i).transpose(), &f);
+                          const Eigen::Vector3d q = query->closest_point(Vn.row(i).transpose(), &f);
                           out.map_face[i] = f;
                           out.map_barycentric.row(i) = barycentric(W, f, q).transpose();
                         }
                       });
   }
+}
+
+// The steps prepare_mesh and prepare_input share: validate, normalize (scale and offset into
+// `out`), reject a flat input (when `reject_flat_input`), weld and clean, analyze and orient.
+struct Cleaned {
+  Vertices Vn;  // the input's vertices, normalized
+  CleanMesh clean;
+  bool closed = false;  // a single closed manifold
+  double largest_hole = 0;
+};
+
+Cleaned clean_input(const Vertices& V_in, const Faces& F_in, const PrepareOptions& options,
+                    bool reject_flat_input, ThrottledProgress& poll, PreparedMesh& out) {
+  poll(0);
+  validate_input(V_in, F_in, options);
+  out.report.input_vertices = static_cast<int>(V_in.rows());
+  out.report.input_faces = static_cast<int>(F_in.rows());
+  Cleaned c;
+  c.Vn = normalize(V_in, poll, out);
+  if (reject_flat_input) reject_flat(c.Vn);
+  c.clean = weld_and_clean(c.Vn, F_in, options.weld_tolerance, poll, out.report);
+  c.closed = analyze_and_orient(c.clean.mesh, poll, out.report, c.largest_hole);
+  return c;
 }
 
 }  // namespace
@@ -495,22 +518,31 @@ void validate_mesh(const Vertices& V, const Faces& F) {
 PreparedMesh prepare_mesh(const Vertices& V_in, const Faces& F_in, const PrepareOptions& options,
                           const Progress& progress, double from, double to) {
   ThrottledProgress poll(progress, "prepare", from, to);
-  poll(0);
-  validate_input(V_in, F_in, options);
   PreparedMesh out;
-  out.report.input_vertices = static_cast<int>(V_in.rows());
-  out.report.input_faces = static_cast<int>(F_in.rows());
-  const Vertices Vn = normalize(V_in, poll, out);
-  reject_flat(Vn);
-  CleanMesh clean = weld_and_clean(Vn, F_in, options.weld_tolerance, poll, out.report);
-  double largest_hole = 0;
-  const bool closed = analyze_and_orient(clean.mesh, poll, out.report, largest_hole);
-  make_working_mesh(std::move(clean.mesh), closed, largest_hole, options, poll, out);
+  Cleaned c = clean_input(V_in, F_in, options, true, poll, out);
+  make_working_mesh(std::move(c.clean.mesh), c.closed, c.largest_hole, options, poll, out);
   if (options.target_faces > 0) remesh_to_target(options, poll, out);
   poll(0.85);
   out.genus = mesh_genus(out.working);
   out.query = std::make_shared<const SurfaceQuery>(out.working, [&] { poll(0.86); });
-  map_input_vertices(Vn, clean.vertex_of, poll, out);
+  map_input_vertices(c.Vn, c.clean.vertex_of, poll, out);
+  poll(1);
+  return out;
+}
+
+PreparedMesh prepare_input(const Vertices& V_in, const Faces& F_in, const PrepareOptions& options,
+                           const Progress& progress, double from, double to) {
+  ThrottledProgress poll(progress, "prepare", from, to);
+  PreparedMesh out;
+  Cleaned c = clean_input(V_in, F_in, options, false, poll, out);
+  out.working = std::move(c.clean.mesh);
+  out.genus = mesh_genus(out.working);
+  // Only input vertices in no face need the closest-point query: built for them alone.
+  const auto& vertex_of = c.clean.vertex_of;
+  if (std::any_of(vertex_of.begin(), vertex_of.end(), [](int v) { return v < 0; })) {
+    out.query = std::make_shared<const SurfaceQuery>(out.working, [&] { poll(0.86); });
+  }
+  map_input_vertices(c.Vn, vertex_of, poll, out);
   poll(1);
   return out;
 }

@@ -48,6 +48,30 @@ double cotangent(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
   return c / s;
 }
 
+// The mixed Voronoi areas of a triangle's corners (Meyer et al. 2003): the Voronoi cells
+// inside the triangle when no angle is obtuse, else half the area to the obtuse corner and a
+// quarter to each other one. They sum to the triangle's area.
+Eigen::Vector3d mixed_areas(const Eigen::Vector3d (&p)[3]) {
+  const double area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+  Eigen::Vector3d out;
+  for (int k = 0; k < 3; ++k) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    if ((p[i] - p[k]).dot(p[j] - p[k]) < 0) {  // obtuse at k
+      out.setConstant(0.25 * area);
+      out[k] = 0.5 * area;
+      return out;
+    }
+  }
+  out.setZero();
+  for (int k = 0; k < 3; ++k) {  // the angle at k weighs the opposite edge (i, j)
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const double part = cotangent(p[i] - p[k], p[j] - p[k]) * (p[j] - p[i]).squaredNorm() / 8;
+    out[i] += part;
+    out[j] += part;
+  }
+  return out;
+}
+
 // Union-find over the vertices through the faces: a component label per vertex (0..count-1).
 Eigen::VectorXi vertex_components(int nv, const Faces& F, int& count) {
   internal::UnionFind uf(nv);
@@ -108,6 +132,13 @@ Eigen::MatrixXd SkinWeights::dense() const {
 
 namespace {
 
+// Which bones heat a vertex, strictest first (BoneHeat::solve relaxes part by part):
+// NearestIfVisible  the nearest bone(s) when visible, else none (Blender's bone heat: a vertex
+//                   whose nearest bone is hidden gets its weights by diffusion only);
+// NearestVisible    the nearest of the visible bones;
+// Nearest           the nearest bone through the volume, visibility and normals ignored.
+enum class SourceRule { NearestIfVisible, NearestVisible, Nearest };
+
 // The heat sources of one vertex: H and the bones sharing it (p = 1 / count).
 struct Source {
   double distance = std::numeric_limits<double>::infinity();  // to the nearest visible bone
@@ -122,7 +153,8 @@ struct BoneHeat::Impl {
   Faces F;
   Eigen::SparseMatrix<double> L;   // cotangent Laplacian (negative semi-definite)
   Eigen::SparseMatrix<double> K;   // -L, lower triangle only (what the factorization reads)
-  Eigen::VectorXd area;            // vertex areas
+  Eigen::VectorXd area;            // mixed Voronoi vertex areas
+  Vertices normal;                 // unit vertex normals (sums of unit face normals)
   Eigen::VectorXi component;       // connected component of each vertex
   int component_count = 0;
   Eigen::RowVector3d center = Eigen::RowVector3d::Zero();  // subtracted before Embree's floats
@@ -141,16 +173,23 @@ struct BoneHeat::Impl {
     const double length = d.norm();
     if (length <= 2 * margin) return true;
     d /= length;
+    // Every part hides bones, not only v's own: measured, a leg part of a spider or the tongue
+    // of a snake then weights the bones it shows better (mean L1 0.395 against 0.429).
+    // No back-face culling (Blender counts only hits on faces turned towards the ray): measured,
+    // culling reproduces Blender's weights but deforms worse on the characters whose joints lie
+    // outside their thin limbs (mean deformation error 0.975 against 0.758).
     return !internal::occluded(scene, o - center.transpose(), d, margin, length - margin);
   }
 
-  // Nearest visible bones of every vertex of `m` (see BoneHeat::Impl::visible). With `blind`,
-  // visibility is ignored (the nearest bones through the volume).
-  void find_sources(const Bones& bones, double tie_tolerance,
-                    const std::vector<int>& vertices, bool blind, std::vector<Source>& out) const {
+  // The heat sources of `vertices` under `rule` (see SourceRule), by the distance of weights.h
+  // (divided by (1.001 + cos) / 2, except under Nearest) with ties within tie_tolerance.
+  void find_sources(const Bones& bones, double tie_tolerance, const std::vector<int>& vertices,
+                    SourceRule rule, std::vector<Source>& out) const {
     const Impl& m = *this;
     const int nb = static_cast<int>(bones.count());
     const double margin = 1e-2 * m.mean_edge;
+    const bool blind = rule == SourceRule::Nearest;
+    const bool strict = rule == SourceRule::NearestIfVisible;
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, vertices.size(), 256),
         [&](const tbb::blocked_range<std::size_t>& range) {
@@ -159,12 +198,15 @@ struct BoneHeat::Impl {
           for (std::size_t r = range.begin(); r != range.end(); ++r) {
             const int v = vertices[r];
             const Eigen::Vector3d p = m.V.row(v).transpose();
+            const Eigen::Vector3d n = m.normal.row(v).transpose();
             for (int b = 0; b < nb; ++b) {
               const Eigen::Vector3d a = bones.heads.row(b).transpose();
               const Eigen::Vector3d c = bones.tails.row(b).transpose();
               double t = 0;
-              order[b] = {point_segment_distance(p, a, c, &t), b};
+              double d = point_segment_distance(p, a, c, &t);
               closest[b] = a + t * (c - a);
+              if (!blind && d > 0) d /= 0.5 * ((p - closest[b]).dot(n) / d + 1.001);
+              order[b] = {d, b};
             }
             // Nearest first, popped from a min-heap: usually one or two bones are looked at.
             std::make_heap(order.begin(), order.end(), std::greater<>());
@@ -174,11 +216,13 @@ struct BoneHeat::Impl {
               std::pop_heap(order.begin(), end, std::greater<>());
               const auto [d, b] = *(end - 1);
               if (std::isfinite(s.distance) && d > s.distance * (1 + tie_tolerance) + 1e-15) break;
+              if (strict && !std::isfinite(s.distance)) s.distance = d;  // the nearest, seen or not
               if (blind || m.visible(v, closest[b], margin)) {
                 if (s.tied.empty()) s.distance = d;
                 s.tied.push_back(b);
               }
             }
+            if (s.tied.empty()) s.distance = std::numeric_limits<double>::infinity();
             if (!s.tied.empty()) {
               std::sort(s.tied.begin(), s.tied.end());
               s.first = s.tied.front();
@@ -207,14 +251,21 @@ BoneHeat::BoneHeat(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(static_cast<std::size_t>(nf) * 12);
   m.area = Eigen::VectorXd::Zero(nv);
+  m.normal = Vertices::Zero(nv, 3);
   double edge_sum = 0;
   for (int f = 0; f < nf; ++f) {
     const int idx[3] = {m.F(f, 0), m.F(f, 1), m.F(f, 2)};
     const Eigen::Vector3d p[3] = {m.V.row(idx[0]).transpose(), m.V.row(idx[1]).transpose(),
                                   m.V.row(idx[2]).transpose()};
-    const double a = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+    const Eigen::Vector3d cross = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double a = 0.5 * cross.norm();
+    const Eigen::Vector3d share = mixed_areas(p);
+    // Unit face normals, summed unweighted as Blender does (measured: slightly closer to the
+    // artists' weights than area-weighted ones).
+    const Eigen::Vector3d fn = a > 0 ? Eigen::Vector3d(cross / (2 * a)) : cross;
     for (int k = 0; k < 3; ++k) {
-      m.area[idx[k]] += a / 3.0;
+      m.area[idx[k]] += share[k];
+      m.normal.row(idx[k]) += fn.transpose();
       // The angle at corner k weighs the opposite edge (i, j).
       const int i = (k + 1) % 3, j = (k + 2) % 3;
       const double w = 0.5 * cotangent(p[i] - p[k], p[j] - p[k]);
@@ -226,6 +277,10 @@ BoneHeat::BoneHeat(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
     }
   }
   m.mean_edge = edge_sum / (3.0 * nf);
+  for (int v = 0; v < nv; ++v) {
+    const double length = m.normal.row(v).norm();
+    if (length > 0) m.normal.row(v) /= length;  // a vertex in no face keeps a zero normal
+  }
   m.L.resize(nv, nv);
   m.L.setFromTriplets(triplets.begin(), triplets.end());
   m.K = (-m.L).triangularView<Eigen::Lower>();
@@ -287,7 +342,7 @@ void BoneHeat::nearest_visible_bones(const Bones& bones, Eigen::VectorXi& bone,
   std::vector<int> all(nv);
   std::iota(all.begin(), all.end(), 0);
   std::vector<Source> sources(nv);
-  impl_->find_sources(bones, 0.0, all, false, sources);
+  impl_->find_sources(bones, 0.0, all, SourceRule::NearestVisible, sources);
   bone.resize(nv);
   distance.resize(nv);
   for (int v = 0; v < nv; ++v) {
@@ -309,23 +364,25 @@ Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& option
   auto at = [&](double f) { progress.report("weights", from + (to - from) * f); };
   at(0);
 
-  // Heat sources: the nearest visible bone(s) of every vertex.
+  // Heat sources. Strict first; a part of the mesh where no vertex has a source is retried with
+  // the next rule (a part without sources makes the system singular: Blender then leaves it
+  // unweighted).
   auto start = Clock::now();
-  std::vector<int> all(nv);
-  std::iota(all.begin(), all.end(), 0);
   std::vector<Source> sources(nv);
-  m.find_sources(bones, options.tie_tolerance, all, false, sources);
-  // Parts of the mesh where no vertex sees a bone: the nearest bones through the volume.
-  std::vector<char> sees(m.component_count, 0);
-  for (int v = 0; v < nv; ++v)
-    if (sources[v].first >= 0) sees[m.component[v]] = 1;
-  std::vector<int> blind;
-  for (int v = 0; v < nv; ++v) {
-    if (sources[v].first < 0) ++rep.unseen_vertices;
-    if (!sees[m.component[v]]) blind.push_back(v);
+  for (const SourceRule rule :
+       {SourceRule::NearestIfVisible, SourceRule::NearestVisible, SourceRule::Nearest}) {
+    std::vector<char> has_source(m.component_count, 0);
+    for (int v = 0; v < nv; ++v)
+      if (sources[v].first >= 0) has_source[m.component[v]] = 1;
+    std::vector<int> retry;
+    for (int v = 0; v < nv; ++v)
+      if (!has_source[m.component[v]]) retry.push_back(v);
+    if (rule == SourceRule::Nearest) {  // what visibility left: counted before the fallback
+      rep.blind_components = static_cast<int>(std::count(has_source.begin(), has_source.end(), 0));
+      for (int v = 0; v < nv; ++v) rep.unseen_vertices += sources[v].first < 0;
+    }
+    if (!retry.empty()) m.find_sources(bones, options.tie_tolerance, retry, rule, sources);
   }
-  rep.blind_components = static_cast<int>(std::count(sees.begin(), sees.end(), 0));
-  if (!blind.empty()) m.find_sources(bones, options.tie_tolerance, blind, true, sources);
   rep.timings.emplace_back("visibility", seconds_since(start));
   at(0.25);
 
@@ -339,6 +396,9 @@ Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& option
     if (s.tied.empty()) continue;
     const double d = std::max(s.distance, min_distance);
     mh[v] = m.area[v] * options.heat / (d * d);
+    // Each of k tied bones gets the full heat (H = k c / d^2, p = 1/k: M H p = M c / d^2 each),
+    // as in Blender: a vertex at a joint binds as firmly as one beside a single bone.
+    mh[v] *= static_cast<double>(s.tied.size());
     const double share = mh[v] / static_cast<double>(s.tied.size());
     for (int b : s.tied) rhs[b].emplace_back(v, share);
   }
@@ -519,6 +579,11 @@ SkinWeights compute_skin_weights(const PreparedMesh& prepared, const Bones& bone
   return skin_weights(prepared, bones, options, progress, from, to);
 }
 
+bool weights_on_working_mesh(Eigen::Index faces, const PrepareOptions& options) {
+  return options.target_faces > 0 &&
+         static_cast<double>(faces) > kNearTarget * options.target_faces;
+}
+
 SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones& bones,
                                  const Options& options, const Progress& progress, double from,
                                  double to) {
@@ -526,7 +591,10 @@ SkinWeights compute_skin_weights(const Vertices& V, const Faces& F, const Bones&
   check_bones(bones);
   const auto start = Clock::now();
   const double half = from + 0.5 * (to - from);
-  const PreparedMesh prepared = prepare_mesh(V, F, options.prepare_options(), progress, from, half);
+  const PreparedMesh prepared =
+      weights_on_working_mesh(F.rows(), options.prepare)
+          ? prepare_mesh(V, F, options.prepare_options(), progress, from, half)
+          : prepare_input(V, F, options.prepare_options(), progress, from, half);
   const double prepare_seconds = seconds_since(start);
   SkinWeights out = skin_weights(prepared, bones, options.weights, progress, half, to);
   out.timings.insert(out.timings.begin(), {"prepare", prepare_seconds});

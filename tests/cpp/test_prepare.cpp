@@ -131,6 +131,39 @@ TEST(Prepare, ClosedInputIsKeptNormalizedAndMappedExactly) {
   EXPECT_TRUE(pm.query->inside(Eigen::Vector3d::Zero()));
 }
 
+TEST(PrepareInput, OpenMultiPartAndFlatInputsAreKeptAndMappedOntoTheirCorners) {
+  // An open capsule, a second part and an unused vertex: cleaned only (nothing wrapped or
+  // remeshed, even with a target), every used vertex on its own corner, the unused one on
+  // its closest point.
+  Mesh m = test::merged(test::cut_above(test::capsule(0.5, 2.0), 1.0),
+                        test::transformed(test::icosphere(2), Eigen::Matrix3d::Identity(), 0.3,
+                                          Eigen::Vector3d(2, 0, 0)));
+  m.V.conservativeResize(m.V.rows() + 1, 3);
+  m.V.row(m.V.rows() - 1) << 2, 0, 0.5;  // in no face, 0.2 above the sphere
+  const dcg::PreparedMesh pm = dcg::prepare_input(m.V, m.F, dcg::PrepareOptions());
+  EXPECT_FALSE(pm.repaired);
+  EXPECT_FALSE(pm.remeshed);
+  EXPECT_GT(pm.report.border_edges, 0);
+  EXPECT_EQ(pm.report.components, 2);
+  std::vector<char> used(m.V.rows(), 0);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) used[m.F(f, k)] = 1;
+  EXPECT_EQ(pm.working.V.rows(), std::count(used.begin(), used.end(), 1));
+  ASSERT_EQ(pm.map_face.size(), m.V.rows());
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
+    Eigen::RowVector3d p = Eigen::RowVector3d::Zero();
+    for (int k = 0; k < 3; ++k)
+      p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
+    const double gap = (pm.to_input(p) - m.V.row(i)).norm();
+    if (used[i]) EXPECT_LT(gap, 1e-9 * pm.scale) << i;
+    if (i + 1 == m.V.rows()) EXPECT_NEAR(gap, 0.2, 0.01);
+  }
+  // A flat sheet is fine here (stage 0 proper rejects it: it encloses nothing).
+  Mesh flat = test::icosphere(2);
+  flat.V.col(2).setZero();
+  EXPECT_NO_THROW(dcg::prepare_input(flat.V, flat.F));
+}
+
 TEST(Prepare, InwardFacingInputIsOrientedOutward) {
   Mesh m = test::icosphere(2);
   m.F.col(1).swap(m.F.col(2));  // every face inward

@@ -311,7 +311,8 @@ TEST(WeightsHeat, RemeshedWorkingMeshTransfersToTheInput) {
   dcg::Options o;
   o.prepare.target_faces = 4000;
   o.prepare.upsample = true;
-  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, chain(), o);
+  const dcg::PreparedMesh prepared = dcg::prepare_mesh(m.V, m.F, o.prepare_options());
+  const dcg::SkinWeights w = dcg::compute_skin_weights(prepared, chain(), o.weights);
   expect_valid(w, static_cast<int>(m.V.rows()), 2);
   EXPECT_GT(w.working_vertices, m.V.rows());
   const Eigen::MatrixXd W = w.dense();
@@ -338,6 +339,22 @@ TEST(WeightsHeat, OpenAndMultiPartInputIsWeightedEverywhere) {
   o.prepare.target_faces = 4000;
   const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, chain(), o);
   expect_valid(w, static_cast<int>(m.V.rows()), 2);
+}
+
+TEST(WeightsHeat, TwoPartsEachGetOnlyTheirOwnBones) {
+  // Two capsules 0.1 apart, one bone each, default options: the weights solve on the input
+  // itself, part by part, so no part takes the other's bone (an alpha wrap would glue them).
+  const Mesh a = capsule(0.5, 2.0);
+  Mesh b = a;
+  b.V.col(0).array() += 1.1;
+  const Mesh m = merged(a, b);
+  const Bones bones = bones_from({{{0, 0, -1}, {0, 0, 1}}, {{1.1, 0, -1}, {1.1, 0, 1}}});
+  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, bones, dcg::Options());
+  expect_valid(w, static_cast<int>(m.V.rows()), 2);
+  EXPECT_EQ(w.working_vertices, m.V.rows());
+  const Eigen::MatrixXd W = w.dense();
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v)
+    EXPECT_EQ(W(v, v < a.V.rows() ? 0 : 1), 1.0) << "vertex " << v;
 }
 
 // --- errors and cancellation --------------------------------------------------------------------

@@ -39,7 +39,7 @@ def test_options_table_has_the_design_defaults():
             assert info.minimum <= info.default <= info.maximum, info.name
     # The weights' options are in the same table, their defaults the engine's.
     assert o["max_influences"].default == 4 and o["max_influences"].stage == "weights"
-    assert o["heat"].default == pytest.approx(1.0)
+    assert o["heat"].default == pytest.approx(4.0)
     assert o["upsample"].default == 0 and o["upsample"].stage == "prepare"
 
 

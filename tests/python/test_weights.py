@@ -103,11 +103,11 @@ def test_capsule_chain_is_monotonic_across_the_joint():
     assert upper[0] < 0.01 and upper[-1] > 0.99
     assert np.all(upper[levels < -0.05] < 0.5) and np.all(upper[levels > 0.05] > 0.5)
     assert abs(upper[levels == 0][0] - 0.5) < 0.05
-    # remeshed (upsample: the small input remeshed up to target_faces): the same picture at the
-    # input vertices
-    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=8000, upsample=1)
+    # large for target_faces (more than 2.5 x as many faces): solved on stage 0's coarser
+    # working mesh, the same picture at the input vertices
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=400)
     check_weights(w, len(V), 2)
-    assert w.working_vertices > len(V)
+    assert w.working_vertices < len(V)
     W = w.dense()
     assert np.all(W[V[:, 2] > 1.0, 1] > 0.9) and np.all(W[V[:, 2] < -1.0, 0] > 0.9)
 
@@ -155,30 +155,38 @@ def test_bones_as_objects_skeleton_or_arrays_agree():
     assert np.allclose(by_skeleton.dense(), by_one_bone.dense())
 
 
-def test_prepared_mesh_is_reused():
+def test_prepared_mesh_is_reused_when_the_input_is_large():
     V, F = capsule(sections=8, segments=12, rings=5)
-    ex = dcg.Extractor(V, F, target_faces=3000)
+    ex = dcg.Extractor(V, F, target_faces=100)
     prepared = ex.prepare()
-    reused = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, prepared=prepared)
-    fresh = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=3000)
+    reused = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, prepared=prepared, target_faces=100)
+    fresh = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=100)
     check_weights(reused, len(V), 2)
     assert "prepare" not in reused.timings and "prepare" in fresh.timings
+    assert reused.working_vertices == fresh.working_vertices == len(prepared.vertices)
     assert np.allclose(reused.dense(), fresh.dense(), atol=1e-9)
+    # not large: the weights solve on the input itself, whatever stage 0 made of it
+    on_input = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, prepared=prepared)
+    assert on_input.working_vertices == len(V)
     with pytest.raises(ValueError, match="prepared maps"):
         skin_weights(V[:-1], F[F.max(axis=1) < len(V) - 1], CHAIN_HEADS, CHAIN_TAILS,
                      prepared=prepared)
 
 
-def test_weights_prepare_the_working_mesh_the_skeleton_gets():
-    # A small closed input is kept as it is by stage 0 for the skeleton (upsample off); the
-    # weights run stage 0 with the same options and must solve on that same mesh.
+def test_weights_solve_on_the_input_unless_it_is_large():
+    # Not large for target_faces: the input itself (welded), not stage 0's working mesh, even
+    # when stage 0 would remesh it (upsample) or wrap it (two parts).
     V, F = capsule()
-    kept = dcg.Extractor(V, F).prepare()
-    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS)
-    assert w.working_vertices == len(kept.vertices)
-    up = dcg.Extractor(V, F, upsample=1, target_faces=8000).prepare()
     w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, upsample=1, target_faces=8000)
-    assert w.working_vertices == len(up.vertices) > len(kept.vertices)
+    assert w.working_vertices == len(V)
+    V2 = np.vstack([V, V + [3, 0, 0]])
+    F2 = np.vstack([F, F + len(V)])
+    w = skin_weights(V2, F2, CHAIN_HEADS, CHAIN_TAILS)
+    assert w.working_vertices == len(V2)
+    # Large: stage 0's working mesh with the same options, the one the skeleton gets.
+    coarse = dcg.Extractor(V, F, target_faces=400).prepare()
+    w = skin_weights(V, F, CHAIN_HEADS, CHAIN_TAILS, target_faces=400)
+    assert w.working_vertices == len(coarse.vertices) < len(V)
 
 
 def test_skeleton_options_are_accepted_and_ignored():

@@ -100,6 +100,16 @@ void validate_mesh(const Vertices& V, const Faces& F);
 PreparedMesh prepare_mesh(const Vertices& V, const Faces& F, const PrepareOptions& options = {},
                           const Progress& progress = {}, double from = 0, double to = 1);
 
+/// Stage 0's cleaning only, for work done on the input itself (the weights): validate, normalize,
+/// weld cracks, drop degenerate and duplicate faces, orient; then the working mesh is that
+/// cleaned input whatever it is (open, several parts, non-manifold, flat: nothing is repaired or
+/// remeshed, repaired and remeshed stay false) and every input vertex maps onto its own corner.
+/// `query` is built only when some input vertex is in no face (it maps to its closest point).
+/// Throws InputError (validate_mesh; fewer than 4 faces left), Cancelled.
+PreparedMesh prepare_input(const Vertices& V, const Faces& F, const PrepareOptions& options = {},
+                           const Progress& progress = Progress(), double from = 0,
+                           double to = 0);
+
 /// Genus from the Euler characteristic, summed over the connected components of (V, F):
 /// V - E + F = 2 - 2g per closed component.
 int mesh_genus(const Mesh& mesh);
