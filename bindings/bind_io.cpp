@@ -66,8 +66,7 @@ void bind_io(py::module_& m) {
         }
         return py::make_tuple(mesh.V, to_faces64(mesh.F));
       },
-      py::arg("path"),
-      "Reads an OBJ, OFF, PLY or STL file: (V float64 #V x 3, F int64 #F x 3).");
+      py::arg("path"), "Reads an OBJ, OFF, PLY or STL file: (V float64 #V x 3, F int64 #F x 3).");
 }
 
 }  // namespace dcg_py

@@ -69,11 +69,13 @@ py::list option_specs() {
 void bind_options(py::module_& m) {
   m.def("option_specs", &option_specs,
         "Every option: name, description, stage, kind, range or choices, unit.");
-  m.def("default_options", [] { return options_to_dict(dcg::Options{}); },
-        "Every option with its default value.");
-  m.def("normalize_options",
-        [](const py::dict& values) { return options_to_dict(options_from_dict(values)); },
-        "Checks options (ValueError when out of range) and returns the full set with defaults.");
+  m.def(
+      "default_options", [] { return options_to_dict(dcg::Options{}); },
+      "Every option with its default value.");
+  m.def(
+      "normalize_options",
+      [](const py::dict& values) { return options_to_dict(options_from_dict(values)); },
+      "Checks options (ValueError when out of range) and returns the full set with defaults.");
 }
 
 }  // namespace dcg_py

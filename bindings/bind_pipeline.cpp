@@ -22,7 +22,8 @@ class PyExtractor {
   /// A stage (a method of dcg::Extractor, or a callable taking one) with the GIL released.
   template <typename Stage>
   decltype(auto) run(Stage stage) {
-    return run_released(bridge_, [&]() -> decltype(auto) { return std::invoke(stage, extractor_); });
+    return run_released(bridge_,
+                        [&]() -> decltype(auto) { return std::invoke(stage, extractor_); });
   }
 
   const dcg::PreparedMesh& prepare() { return run(&dcg::Extractor::prepare); }
@@ -67,7 +68,9 @@ class PyExtractor {
 void bind_pipeline(py::module_& m) {
   m.def(
       "validate_mesh",
-      [](const dcg::Vertices& V, const Faces64& F) { dcg::validate_mesh(V, to_faces(F, V.rows())); },
+      [](const dcg::Vertices& V, const Faces64& F) {
+        dcg::validate_mesh(V, to_faces(F, V.rows()));
+      },
       py::arg("V"), py::arg("F"));
 
   constexpr auto kept = py::return_value_policy::reference_internal;

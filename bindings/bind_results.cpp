@@ -14,8 +14,8 @@
 namespace dcg_py {
 
 py::object to_python(const std::vector<int>& values, py::handle) {
-  return py::cast(to_int64(Eigen::Map<const Eigen::VectorXi>(
-      values.data(), static_cast<Eigen::Index>(values.size()))));
+  return py::cast(to_int64(
+      Eigen::Map<const Eigen::VectorXi>(values.data(), static_cast<Eigen::Index>(values.size()))));
 }
 
 py::object to_python(const std::vector<char>& flags, py::handle) {
@@ -160,7 +160,9 @@ void bind_prongs(py::module_& m) {
           py::arg("tau"), "The prongs at smoothness ratio tau (0 < tau <= 1).")
       .def(
           "global_cap_is_disk",
-          [](const H& h, py::handle tau) { return h.global_cap_is_disk(option_number("tau", tau)); },
+          [](const H& h, py::handle tau) {
+            return h.global_cap_is_disk(option_number("tau", tau));
+          },
           py::arg("tau"));
 }
 

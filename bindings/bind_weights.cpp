@@ -62,8 +62,8 @@ void bind_bone_heat(py::module_& m) {
               return heat.solve(bones, o, nullptr, dcg::Progress(bridge.callback()));
             });
           },
-          py::arg("heads"), py::arg("tails"), py::arg("options"),
-          py::arg("progress") = py::none(), "#V x #B weights of the mesh's vertices.")
+          py::arg("heads"), py::arg("tails"), py::arg("options"), py::arg("progress") = py::none(),
+          "#V x #B weights of the mesh's vertices.")
       .def(
           "nearest_visible_bones",
           [](const H& heat, const dcg::Points& heads, const dcg::Points& tails) {
@@ -92,8 +92,9 @@ void bind_weights(py::module_& m) {
         const dcg::Options o = options_from_dict(options);
         const dcg::Bones bones = make_bones(heads, tails);
         ProgressBridge bridge(std::move(progress));
-        return run_released(
-            bridge, [&] { return dcg::compute_skin_weights(V, faces, bones, o, bridge.callback()); });
+        return run_released(bridge, [&] {
+          return dcg::compute_skin_weights(V, faces, bones, o, bridge.callback());
+        });
       },
       py::arg("V"), py::arg("F"), py::arg("heads"), py::arg("tails"), py::arg("options"),
       py::arg("progress") = py::none(),
@@ -109,7 +110,8 @@ void bind_weights(py::module_& m) {
   m.def(
       "skin_weights_prepared",
       [](const dcg::Vertices& working_V, const Faces64& working_F, double scale,
-         const Eigen::Vector3d& offset, const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& map_face,
+         const Eigen::Vector3d& offset,
+         const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& map_face,
          const dcg::Vertices& map_barycentric, const dcg::Points& heads, const dcg::Points& tails,
          const py::dict& options, py::object progress) {
         dcg::PreparedMesh prepared;
@@ -123,7 +125,8 @@ void bind_weights(py::module_& m) {
         prepared.map_face.resize(map_face.size());
         for (Eigen::Index i = 0; i < map_face.size(); ++i) {
           if (map_face[i] < 0 || map_face[i] >= prepared.working.F.rows()) {
-            throw dcg::InputError("map_face[" + std::to_string(i) + "] is outside the working mesh");
+            throw dcg::InputError("map_face[" + std::to_string(i) +
+                                  "] is outside the working mesh");
           }
           prepared.map_face[i] = static_cast<int>(map_face[i]);
         }

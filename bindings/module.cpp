@@ -10,8 +10,8 @@ namespace {
 // Messages quote file names and file content, which need not be UTF-8: decode with
 // replacement characters (PyErr_SetString would fail and leave an empty ValueError).
 void set_error(PyObject* type, const char* message) {
-  PyObject* text = PyUnicode_DecodeUTF8(message, static_cast<Py_ssize_t>(std::strlen(message)),
-                                        "replace");
+  PyObject* text =
+      PyUnicode_DecodeUTF8(message, static_cast<Py_ssize_t>(std::strlen(message)), "replace");
   if (!text) return;  // the decoding error stays set
   PyErr_SetObject(type, text);
   Py_DECREF(text);

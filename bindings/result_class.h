@@ -62,12 +62,18 @@ py::object to_python(const T& value, py::handle owner) {
 
 namespace fields {
 template <typename T>
-const T* address(const T& value) { return &value; }
+const T* address(const T& value) {
+  return &value;
+}
 template <typename T>
-const T* address(const T* pointer) { return pointer; }
+const T* address(const T* pointer) {
+  return pointer;
+}
 
 template <typename T>
-const T* follow(const T* object) { return object; }
+const T* follow(const T* object) {
+  return object;
+}
 /// The member (data member or accessor returning a reference) at the end of `path`, starting
 /// at `object`; null when a pointer on the way is null.
 template <typename T, typename Member, typename... Rest>
@@ -112,6 +118,5 @@ class ResultClass : public py::class_<T> {
     return *this;
   }
 };
-
 
 }  // namespace dcg_py

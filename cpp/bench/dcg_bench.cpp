@@ -63,11 +63,21 @@ std::string json_string(const std::string& s) {
   std::string out = "\"";
   for (unsigned char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (c < 0x20) {
           char buf[8];
@@ -116,13 +126,13 @@ class JsonObject {
 
 struct Args {
   std::vector<std::string> paths;
-  int repeat = 1;              // runs of our pipeline per mesh; the fastest total is reported
-  bool mcf = true;             // run the CGAL baseline
+  int repeat = 1;               // runs of our pipeline per mesh; the fastest total is reported
+  bool mcf = true;              // run the CGAL baseline
   long long mcf_max_faces = 0;  // skip MCF above this many faces (0: no limit)
-  bool stability = true;       // one more run on a rotated, scaled, noisy, reseeded copy
+  bool stability = true;        // one more run on a rotated, scaled, noisy, reseeded copy
   unsigned stability_seed = 1;  // with the file name, seeds the copy's random draws
-  std::string skeleton_dir;    // write <dir>/<file name>.json with both skeletons ("": no)
-  std::string output;          // JSON lines file ("" or "-": stdout)
+  std::string skeleton_dir;     // write <dir>/<file name>.json with both skeletons ("": no)
+  std::string output;           // JSON lines file ("" or "-": stdout)
   dcg::Options options;
 };
 
@@ -270,7 +280,8 @@ Quality quality(const dcg::SurfaceQuery* surface, double spacing, const dcg::Ske
     q.connections += s.kinds[i] == dcg::NodeKind::Connection;
   }
   q.cycles = static_cast<int>(s.links.rows()) - n + q.components;
-  for (Eigen::Index f = 0; f < s.face_labels.size(); ++f) q.unlabelled_faces += s.face_labels[f] < 0;
+  for (Eigen::Index f = 0; f < s.face_labels.size(); ++f)
+    q.unlabelled_faces += s.face_labels[f] < 0;
   // The nodes and the polylines' inner points (their end points are nodes).
   Eigen::Index count = n;
   for (const auto& p : s.polylines) count += std::max<Eigen::Index>(p.rows() - 2, 0);
@@ -436,10 +447,14 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
     JsonObject stages;
     for (const auto& [name, seconds] : best) stages.num(name, seconds);
     std::string totals_json = "[";
-    for (size_t i = 0; i < totals.size(); ++i) totals_json += (i ? "," : "") + json_number(totals[i]);
+    for (size_t i = 0; i < totals.size(); ++i)
+      totals_json += (i ? "," : "") + json_number(totals[i]);
     totals_json += "]";
-    row.raw("stages", stages.dump()).num("total", total).num("wall", best_wall)
-        .raw("totals", totals_json).raw("engine", info.dump());
+    row.raw("stages", stages.dump())
+        .num("total", total)
+        .num("wall", best_wall)
+        .raw("totals", totals_json)
+        .raw("engine", info.dump());
     std::cerr << " " << json_number(total) << " s" << std::flush;
   } catch (const std::exception& e) {
     error = e.what();
@@ -474,7 +489,7 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
           .boolean("same_joints", q.joints == best_quality.joints)
           .boolean("stable", q.ends == best_quality.ends && q.joints == best_quality.joints);
       std::cerr << (q.ends == best_quality.ends && q.joints == best_quality.joints ? " same"
-                                                                                  : " differs");
+                                                                                   : " differs");
     } catch (const std::exception& e) {
       st = JsonObject();
       st.str("status", "failed").str("note", e.what()).null("stable");

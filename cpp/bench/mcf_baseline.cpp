@@ -6,8 +6,8 @@
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/extract_mean_curvature_flow_skeleton.h>
 #include <CGAL/boost/graph/helpers.h>
+#include <CGAL/extract_mean_curvature_flow_skeleton.h>
 #include <CGAL/version.h>
 
 #include <chrono>
@@ -51,9 +51,12 @@ std::string build_closed_manifold(const std::vector<Point>& points,
 
 const char* status_name(McfResult::Status status) {
   switch (status) {
-    case McfResult::Status::Ok: return "ok";
-    case McfResult::Status::Skipped: return "skipped";
-    case McfResult::Status::Failed: return "failed";
+    case McfResult::Status::Ok:
+      return "ok";
+    case McfResult::Status::Skipped:
+      return "skipped";
+    case McfResult::Status::Failed:
+      return "failed";
   }
   return "?";
 }

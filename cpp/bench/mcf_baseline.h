@@ -13,10 +13,10 @@ namespace dcg::bench {
 struct McfResult {
   enum class Status { Ok, Skipped, Failed };
   Status status = Status::Skipped;
-  double seconds = 0;   ///< wall time of extract_mean_curvature_flow_skeleton only (Ok)
-  double build_seconds = 0;  ///< welding, the manifold check and building the Surface_mesh
-  int mesh_vertices = 0;     ///< vertices of the Surface_mesh handed to MCF
-  bool welded = false;       ///< exact duplicate points had to be welded first
+  double seconds = 0;         ///< wall time of extract_mean_curvature_flow_skeleton only (Ok)
+  double build_seconds = 0;   ///< welding, the manifold check and building the Surface_mesh
+  int mesh_vertices = 0;      ///< vertices of the Surface_mesh handed to MCF
+  bool welded = false;        ///< exact duplicate points had to be welded first
   int skeleton_vertices = 0;  ///< nodes of the MCF skeleton (Ok)
   int skeleton_edges = 0;     ///< edges of the MCF skeleton (Ok)
   Points points;              ///< #S by 3 MCF skeleton vertices, input coordinates (Ok)

@@ -10,8 +10,8 @@
 #include <tbb/parallel_for.h>
 
 #include "dcg/errors.h"
-#include "dcg/options.h"
 #include "dcg/force_field.h"
+#include "dcg/options.h"
 #include "dcg/surface_query.h"
 #include "polling.h"
 

@@ -78,15 +78,19 @@ DomainBalls compute_domain_balls(const Balls& candidates, const DomainBallsOptio
       b1[a] = cell_coord(c[a] + h, a);
       m[a] = cell_coord(c[a], a);
     }
-    const std::int64_t shells = std::max({m[0] - b0[0], b1[0] - m[0], m[1] - b0[1], b1[1] - m[1],
-                                          m[2] - b0[2], b1[2] - m[2]});
+    const std::int64_t shells = std::max(
+        {m[0] - b0[0], b1[0] - m[0], m[1] - b0[1], b1[1] - m[1], m[2] - b0[2], b1[2] - m[2]});
     bool conflict = false;
     for (std::int64_t s = 0; s <= shells && !conflict; ++s) {
-      for (std::int64_t x = std::max(b0[0], m[0] - s); x <= std::min(b1[0], m[0] + s) && !conflict; ++x)
-        for (std::int64_t y = std::max(b0[1], m[1] - s); y <= std::min(b1[1], m[1] + s) && !conflict; ++y)
-          for (std::int64_t z = std::max(b0[2], m[2] - s); z <= std::min(b1[2], m[2] + s) && !conflict; ++z) {
+      for (std::int64_t x = std::max(b0[0], m[0] - s); x <= std::min(b1[0], m[0] + s) && !conflict;
+           ++x)
+        for (std::int64_t y = std::max(b0[1], m[1] - s);
+             y <= std::min(b1[1], m[1] + s) && !conflict; ++y)
+          for (std::int64_t z = std::max(b0[2], m[2] - s);
+               z <= std::min(b1[2], m[2] + s) && !conflict; ++z) {
             // Only the cells of shell s (Chebyshev distance s from the center's cell).
-            if (std::max({std::abs(x - m[0]), std::abs(y - m[1]), std::abs(z - m[2])}) != s) continue;
+            if (std::max({std::abs(x - m[0]), std::abs(y - m[1]), std::abs(z - m[2])}) != s)
+              continue;
             auto it = grid.find(key(x, y, z));
             if (it == grid.end()) continue;
             for (int j : it->second) {

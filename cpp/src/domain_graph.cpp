@@ -12,9 +12,9 @@
 #include <tuple>
 #include <utility>
 
-#include <Eigen/Eigenvalues>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Eigenvalues>
 
 #include "dcg/errors.h"
 #include "dcg/force_field.h"
@@ -83,7 +83,8 @@ double arc_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Ei
 }
 
 // Whether every pair of `pts` sees each other (no segment between two of them meets the surface).
-bool all_see_each_other(const SurfaceQuery& query, const Points& points, const std::vector<int>& pts) {
+bool all_see_each_other(const SurfaceQuery& query, const Points& points,
+                        const std::vector<int>& pts) {
   std::vector<double> a, b;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     for (std::size_t j = i + 1; j < pts.size(); ++j) {

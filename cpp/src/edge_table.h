@@ -31,7 +31,8 @@ struct EdgeTable {
     half.reserve(static_cast<std::size_t>(F.rows()) * 3);
     for (int f = 0; f < F.rows(); ++f) {
       if (poll && (f & 65535) == 0) poll();
-      for (int k = 0; k < 3; ++k) half.emplace_back(edge_key(F(f, k), F(f, (k + 1) % 3)), 3 * f + k);
+      for (int k = 0; k < 3; ++k)
+        half.emplace_back(edge_key(F(f, k), F(f, (k + 1) % 3)), 3 * f + k);
     }
     sort_polling(half, poll);
   }

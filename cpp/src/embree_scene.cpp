@@ -85,8 +85,8 @@ RTCRay single_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& directio
   return ray;
 }
 
-void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direction[3],
-                  float tnear, float tfar) {
+void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direction[3], float tnear,
+                  float tfar) {
   ray.org_x[k] = origin[0];
   ray.org_y[k] = origin[1];
   ray.org_z[k] = origin[2];

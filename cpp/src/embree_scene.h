@@ -41,8 +41,8 @@ RTCRay single_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& directio
                   double tfar);
 
 /// Lane k of an 8-wide packet, set the same way as single_ray (floats already centered).
-void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direction[3],
-                  float tnear, float tfar);
+void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direction[3], float tnear,
+                  float tfar);
 
 /// rtcIntersect1 / rtcOccluded1 / rtcIntersect8 / rtcOccluded8 with default arguments, on Embree 3
 /// or 4. `coherent`: the rays of the packet share an origin (a hint for Embree's traversal).

@@ -81,7 +81,8 @@ EndPoints find_end_points(const Prongs& prongs, const Balls& balls, const Surfac
     order.clear();
     for (Eigen::Index b = 0; b < B; ++b) {
       if (taken[b] || !(balls.radii[b] >= min_radius)) continue;
-      order.emplace_back((balls.centers.row(b).transpose() - peak).squaredNorm(), static_cast<int>(b));
+      order.emplace_back((balls.centers.row(b).transpose() - peak).squaredNorm(),
+                         static_cast<int>(b));
     }
     std::sort(order.begin(), order.end());
     for (const auto& [d2, b] : order) {
@@ -106,7 +107,8 @@ Eigen::Vector3d unseen_end_point(const Prongs& prongs, Eigen::Index p, const Mes
                                  double* radius) {
   const Eigen::Vector3d peak = prongs.positions.row(p).transpose();
   const Eigen::Vector3d toward = nearest_row(domain_points, peak);
-  Eigen::Vector3d point = internal::inward_point(working, query, prongs.vertices[p], toward, radius);
+  Eigen::Vector3d point =
+      internal::inward_point(working, query, prongs.vertices[p], toward, radius);
   if (!(*radius > 0)) first_inside_toward(query, peak, toward, &point, radius);
   if (!(*radius > 0)) nearby_inward_point(working, query, peak, toward, &point, radius);
   return point;

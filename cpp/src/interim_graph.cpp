@@ -73,7 +73,8 @@ void prune_twigs(const Points& points, const Eigen::VectorXd& radii,
       length += (points.row(cur) - points.row(prev)).norm();
       if (length >= 2.0 * radii[cur]) continue;
       remove_edge(adjacency, prev, cur);
-      for (size_t i = 0; i + 1 < branch.size(); ++i) remove_edge(adjacency, branch[i], branch[i + 1]);
+      for (size_t i = 0; i + 1 < branch.size(); ++i)
+        remove_edge(adjacency, branch[i], branch[i + 1]);
       changed = true;
     }
   }

@@ -46,7 +46,8 @@ PolygonSoup read_with_cgal(const std::string& path, const std::string& ext) {
   if (!ok && points.empty()) throw IoError(path + ": cannot be parsed as " + ext.substr(1));
   PolygonSoup soup;
   soup.coordinates.reserve(3 * points.size());
-  for (const auto& p : points) soup.coordinates.insert(soup.coordinates.end(), {p.x(), p.y(), p.z()});
+  for (const auto& p : points)
+    soup.coordinates.insert(soup.coordinates.end(), {p.x(), p.y(), p.z()});
   for (const auto& poly : polygons) {
     for (std::size_t index : poly) soup.corners.push_back(static_cast<double>(index));
     soup.sizes.push_back(poly.size());
@@ -77,9 +78,8 @@ Mesh mesh_from_soup(const std::string& path, const PolygonSoup& soup) {
       if (!(corner[k] >= 0) || corner[k] >= static_cast<double>(vertex_count)) {
         std::ostringstream index;
         index << std::setprecision(17) << corner[k];
-        throw InputError(path + ": face " + std::to_string(f) + " refers to vertex " +
-                         index.str() + " but the file has only " + std::to_string(vertex_count) +
-                         " vertices");
+        throw InputError(path + ": face " + std::to_string(f) + " refers to vertex " + index.str() +
+                         " but the file has only " + std::to_string(vertex_count) + " vertices");
       }
     }
     for (std::size_t k = 1; k + 1 < n; ++k) {  // fan triangulation

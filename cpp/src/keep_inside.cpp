@@ -82,8 +82,9 @@ void keep_segments_inside(Points& poly, double ra, double rb, const SurfaceQuery
   if (!any) return;
   std::vector<Eigen::RowVector3d> out;
   // Appends the points after p up to q (q included), t = their places along the polyline.
-  std::function<void(const Eigen::RowVector3d&, const Eigen::RowVector3d&, double, double, int)> refine =
-      [&](const Eigen::RowVector3d& p, const Eigen::RowVector3d& q, double tp, double tq, int depth) {
+  std::function<void(const Eigen::RowVector3d&, const Eigen::RowVector3d&, double, double, int)>
+      refine = [&](const Eigen::RowVector3d& p, const Eigen::RowVector3d& q, double tp, double tq,
+                   int depth) {
         if (depth < 6 && surface.segment_blocked(p.transpose(), q.transpose())) {
           const double tm = 0.5 * (tp + tq);
           Eigen::RowVector3d m = 0.5 * (p + q);

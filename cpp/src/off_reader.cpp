@@ -48,7 +48,8 @@ class OffLines {
 };
 
 bool whole_number(const std::string& word, long long& value) {
-  if (word.empty() || word.size() > 18 || word.find_first_not_of("0123456789") != std::string::npos) {
+  if (word.empty() || word.size() > 18 ||
+      word.find_first_not_of("0123456789") != std::string::npos) {
     return false;
   }
   value = std::stoll(word);
@@ -68,8 +69,7 @@ PolygonSoup read_off(const std::string& path) {
   OffLines lines(path);
   std::vector<std::string> words;
   auto fail = [&](const std::string& why) {
-    throw InputError(path + ": line " + std::to_string(lines.number()) + " of the OFF file " +
-                     why);
+    throw InputError(path + ": line " + std::to_string(lines.number()) + " of the OFF file " + why);
   };
   if (!lines.next(words)) throw InputError(path + ": holds no OFF header");
   // The keyword [ST][C][N][4][n]OFF, optionally followed by the counts or BINARY; like CGAL,

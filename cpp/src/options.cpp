@@ -20,7 +20,7 @@ struct Access {
 
 // A field of a stage's struct (Owner is the stage struct or one of its bases).
 template <class Stage, class Owner, class T>
-Access member(Stage Options::*stage, T Owner::*field) {
+Access member(Stage Options::* stage, T Owner::* field) {
   return {[=](const Options& o) { return static_cast<double>((o.*stage).*field); },
           [=](Options& o, double v) { (o.*stage).*field = static_cast<T>(v); }};
 }
@@ -42,7 +42,12 @@ const std::vector<OptionEntry>& option_table() {
       {{"repair",
         "What to do with input that is not one closed manifold: 'auto' wraps it into a closed "
         "proxy (CGAL alpha wrapping), 'none' raises an error naming the problem",
-        "prepare", Kind::Choice, 0, 0, {"auto", "none"}, ""},
+        "prepare",
+        Kind::Choice,
+        0,
+        0,
+        {"auto", "none"},
+        ""},
        {}},
       {number("target_faces", "prepare", Kind::Int, 0, 2e6,
               "Triangles of the uniform working mesh after remeshing (0: keep the input)"),

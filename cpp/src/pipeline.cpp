@@ -149,8 +149,8 @@ const DomainGraph& Extractor::domain_graph() {
     const EndPoints& ends = end_points();
     const ConnectionPoints& cp = connection_points();
     const double t0 = now_seconds();
-    const GraphPoints points = graph_points(cp, ends, prongs().prongs, pm.working, query(),
-                                            domain_->balls.centers);
+    const GraphPoints points =
+        graph_points(cp, ends, prongs().prongs, pm.working, query(), domain_->balls.centers);
     graph_ =
         compute_domain_graph(pm.working, force_field(), points.points, points.radii, points.prong,
                              pm.genus, DomainGraphOptions{}, progress_, kGraph, kRemap);

@@ -41,10 +41,10 @@ struct ScalarType {
 
 // PLY's scalar types, by both of their names.
 constexpr ScalarType kTypes[] = {
-    {"char", "int8", 1, true, true},       {"uchar", "uint8", 1, true, false},
-    {"short", "int16", 2, true, true},     {"ushort", "uint16", 2, true, false},
-    {"int", "int32", 4, true, true},       {"uint", "uint32", 4, true, false},
-    {"float", "float32", 4, false, true},  {"double", "float64", 8, false, true},
+    {"char", "int8", 1, true, true},      {"uchar", "uint8", 1, true, false},
+    {"short", "int16", 2, true, true},    {"ushort", "uint16", 2, true, false},
+    {"int", "int32", 4, true, true},      {"uint", "uint32", 4, true, false},
+    {"float", "float32", 4, false, true}, {"double", "float64", 8, false, true},
 };
 
 const ScalarType* find_type(const std::string& name) {
@@ -232,12 +232,15 @@ class BodyReader {
       return static_cast<double>(v);
     };
     switch (type.bytes) {
-      case 1: return type.is_signed ? as(std::int8_t{}) : as(std::uint8_t{});
-      case 2: return type.is_signed ? as(std::int16_t{}) : as(std::uint16_t{});
+      case 1:
+        return type.is_signed ? as(std::int8_t{}) : as(std::uint8_t{});
+      case 2:
+        return type.is_signed ? as(std::int16_t{}) : as(std::uint16_t{});
       case 4:
         if (!type.integer) return as(float{});
         return type.is_signed ? as(std::int32_t{}) : as(std::uint32_t{});
-      default: break;
+      default:
+        break;
     }
     return as(double{});
   }
@@ -304,7 +307,8 @@ PolygonSoup read_ply(const std::string& path) {
           body.skip(*property.type, count);
           continue;
         }
-        for (std::uint64_t k = 0; k < count; ++k) soup.corners.push_back(body.value(*property.type));
+        for (std::uint64_t k = 0; k < count; ++k)
+          soup.corners.push_back(body.value(*property.type));
         soup.sizes.push_back(static_cast<std::size_t>(count));
       }
     }

@@ -508,8 +508,8 @@ void validate_mesh(const Vertices& V, const Faces& F) {
     for (int k = 0; k < 3; ++k) {
       if (F(f, k) < 0 || F(f, k) >= V.rows()) {
         throw InputError("face " + std::to_string(f) + " has vertex index " +
-                         std::to_string(F(f, k)) + " out of range [0, " +
-                         std::to_string(V.rows()) + ")");
+                         std::to_string(F(f, k)) + " out of range [0, " + std::to_string(V.rows()) +
+                         ")");
       }
     }
   }

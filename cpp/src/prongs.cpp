@@ -85,7 +85,8 @@ EdgeGraph build_graph(const Mesh& mesh, const std::function<void()>& poll = {}) 
   g.neighbour.resize(directed.size());
   g.length.resize(directed.size());
   for (std::size_t i = 0; i < directed.size(); ++i) {
-    const int a = static_cast<int>(directed[i] >> 32), b = static_cast<int>(directed[i] & 0xffffffffu);
+    const int a = static_cast<int>(directed[i] >> 32),
+              b = static_cast<int>(directed[i] & 0xffffffffu);
     ++g.start[a + 1];
     g.neighbour[i] = b;
     g.length[i] = (mesh.V.row(a) - mesh.V.row(b)).norm();
@@ -293,7 +294,7 @@ void sample_sources(const EdgeGraph& g, const std::vector<double>& area, int cou
     int next = 0;
     for (int v = 1; v < n; ++v)
       if (dist[v] > dist[next]) next = v;  // an unreached vertex (infinity) comes first
-    if (!(dist[next] > 0)) break;  // every vertex is a source already
+    if (!(dist[next] > 0)) break;          // every vertex is a source already
     const int tag = static_cast<int>(sources.size());
     sources.push_back(next);
     queue.run(next, dist.data(), label.data(), tag);
@@ -361,11 +362,12 @@ ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f, const
 
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return f[a] != f[b] ? f[a] > f[b] : a < b; });
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return f[a] != f[b] ? f[a] > f[b] : a < b; });
   std::vector<int> rank(n);
   for (int i = 0; i < n; ++i) rank[order[i]] = i;
 
-  std::vector<int> parent(n, -1);  // -1: not visited yet
+  std::vector<int> parent(n, -1);   // -1: not visited yet
   std::vector<int> peak_of(n, -1);  // root -> index into peaks_
   std::vector<int> lowest(n, -1);   // root -> its lowest vertex so far
   auto find = [&](int x) {
@@ -421,7 +423,8 @@ ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f, const
   });
   // The global maximum of the whole mesh: the peak first in the order.
   for (int i = 0; i < static_cast<int>(peaks_.size()); ++i) {
-    if (peaks_[i].global && (global_ < 0 || rank[peaks_[i].vertex] < rank[peaks_[global_].vertex])) {
+    if (peaks_[i].global &&
+        (global_ < 0 || rank[peaks_[i].vertex] < rank[peaks_[global_].vertex])) {
       global_ = i;
     }
   }
@@ -455,7 +458,8 @@ bool ProngHierarchy::cap_is_disk(int peak_vertex, double tau) const {
   for (Eigen::Index f = 0; f < mesh_.F.rows(); ++f) {
     if (!in[mesh_.F(f, 0)] || !in[mesh_.F(f, 1)] || !in[mesh_.F(f, 2)]) continue;
     for (int k = 0; k < 3; ++k) {
-      auto a = static_cast<std::uint32_t>(mesh_.F(f, k)), b = static_cast<std::uint32_t>(mesh_.F(f, (k + 1) % 3));
+      auto a = static_cast<std::uint32_t>(mesh_.F(f, k)),
+           b = static_cast<std::uint32_t>(mesh_.F(f, (k + 1) % 3));
       if (a > b) std::swap(a, b);
       edges.push_back((static_cast<std::uint64_t>(a) << 32) | b);
     }

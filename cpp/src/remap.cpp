@@ -10,14 +10,14 @@
 #include <optional>
 #include <queue>
 
-#include <Eigen/Dense>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Dense>
 
 #include "chords.h"
 #include "dcg/errors.h"
-#include "dcg/options.h"
 #include "dcg/force_field.h"
+#include "dcg/options.h"
 #include "dcg/surface_query.h"
 #include "polling.h"
 
@@ -57,7 +57,8 @@ Points resample(const std::vector<Eigen::Vector3d>& path, int count) {
   Eigen::Index k = 0;
   for (int h = 0; h < hops; ++h)
     for (int j = 0; j < pieces[h]; ++j)
-      out.row(k++) = (path[h] + (path[h + 1] - path[h]) * (static_cast<double>(j) / pieces[h])).transpose();
+      out.row(k++) =
+          (path[h] + (path[h + 1] - path[h]) * (static_cast<double>(j) / pieces[h])).transpose();
   out.row(k) = path.back().transpose();
   return out;
 }
@@ -74,11 +75,13 @@ class NeighbourGrid {
     }
     // Each side at least 1/100 of the longest, so that points spread on a plane or a line get
     // cells of a few points each, not a million empty ones.
-    const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-2 * (hi_ - lo_).maxCoeff()).cwiseMax(1e-12);
+    const Eigen::Vector3d extent =
+        (hi_ - lo_).cwiseMax(1e-2 * (hi_ - lo_).maxCoeff()).cwiseMax(1e-12);
     cell_ = std::cbrt(extent.prod() / static_cast<double>(pts.size()));
     dims_ = (extent / cell_).array().floor().cast<int>().cwiseMax(0) + 1;
     grid_.resize(static_cast<std::size_t>(dims_.prod()));
-    for (int i = 0; i < static_cast<int>(pts.size()); ++i) grid_[index(cell_of(pts[i]))].push_back(i);
+    for (int i = 0; i < static_cast<int>(pts.size()); ++i)
+      grid_[index(cell_of(pts[i]))].push_back(i);
   }
 
   /// The k nearest points to point i (i excluded).
@@ -90,8 +93,10 @@ class NeighbourGrid {
       for (int z = c.z() - ring; z <= c.z() + ring; ++z) {
         for (int y = c.y() - ring; y <= c.y() + ring; ++y) {
           for (int x = c.x() - ring; x <= c.x() + ring; ++x) {
-            if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != ring) continue;
-            if (x < 0 || y < 0 || z < 0 || x >= dims_.x() || y >= dims_.y() || z >= dims_.z()) continue;
+            if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != ring)
+              continue;
+            if (x < 0 || y < 0 || z < 0 || x >= dims_.x() || y >= dims_.y() || z >= dims_.z())
+              continue;
             for (const int j : grid_[index(Eigen::Vector3i(x, y, z))]) {
               if (j != i) found_.emplace_back((pts_[j] - pts_[i]).squaredNorm(), j);
             }
@@ -117,7 +122,9 @@ class NeighbourGrid {
   Eigen::Vector3i cell_of(const Eigen::Vector3d& p) const {
     return ((p - lo_) / cell_).array().floor().cast<int>().min(dims_.array() - 1).max(0).matrix();
   }
-  int index(const Eigen::Vector3i& c) const { return (c.z() * dims_.y() + c.y()) * dims_.x() + c.x(); }
+  int index(const Eigen::Vector3i& c) const {
+    return (c.z() * dims_.y() + c.y()) * dims_.x() + c.x();
+  }
 
   const std::vector<Eigen::Vector3d>& pts_;
   Eigen::Vector3d lo_, hi_;
@@ -204,8 +211,9 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
   const double chord = (b - a).norm();
   // Spacing by the larger radius: a link into a needle tip (radius ~0) would get dozens of points.
   const double mean_radius = std::max(0.5 * (ra + rb), 1e-9), big_radius = std::max({ra, rb, 1e-9});
-  const int inner = std::clamp(static_cast<int>(std::ceil(chord / (o.spacing * big_radius))) - 1,
-                               o.min_inner_points, std::max(o.min_inner_points, o.max_inner_points));
+  const int inner =
+      std::clamp(static_cast<int>(std::ceil(chord / (o.spacing * big_radius))) - 1,
+                 o.min_inner_points, std::max(o.min_inner_points, o.max_inner_points));
   // The start: the straight link, or a path through the waypoints when it leaves the shape.
   std::vector<Eigen::Vector3d> path = {a, b};
   if (chord > 0 && query.segment_blocked(a, b)) {
@@ -244,7 +252,8 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
     G(j, j) = -1;
     G(j, j + 1) = 1;
   }
-  const Eigen::MatrixXd Kfull = o.curvature_weight * D.transpose() * D + o.stretch_weight * G.transpose() * G;
+  const Eigen::MatrixXd Kfull =
+      o.curvature_weight * D.transpose() * D + o.stretch_weight * G.transpose() * G;
   const Eigen::MatrixXd K = Kfull.block(1, 1, m, m);
   const Eigen::MatrixXd Kb = Kfull.block(1, 0, m, m + 2);  // for the fixed ends' contribution
   const Eigen::LDLT<Eigen::MatrixXd> solver(Eigen::MatrixXd::Identity(m, m) + 2 * o.time_step * K);
@@ -302,8 +311,7 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
       // The point must get there without crossing the surface, and its polyline segments to
       // both neighbours (the one before already moved this iteration) must stay inside too: a
       // point that is inside can still pull its segment across a concave fold of the surface.
-      if (query.segment_blocked(from, to) ||
-          query.segment_blocked(p.row(i - 1).transpose(), to) ||
+      if (query.segment_blocked(from, to) || query.segment_blocked(p.row(i - 1).transpose(), to) ||
           query.segment_blocked(to, p.row(i + 1).transpose())) {
         ++out.refused;
         continue;

@@ -29,9 +29,9 @@
 #else
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
 #endif
+#include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
-#include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include "dcg/errors.h"
@@ -98,12 +98,14 @@ Mesh subdivide_midpoints(const Mesh& mesh) {
   table.for_each_edge([&](std::size_t b, std::size_t e) {
     const int corner = table.half[b].second, f = EdgeTable::face(corner), k = corner % 3;
     added.push_back(0.5 * (mesh.V.row(mesh.F(f, k)) + mesh.V.row(mesh.F(f, (k + 1) % 3))));
-    for (std::size_t i = b; i < e; ++i) midpoint[table.half[i].second] = static_cast<int>(nv + added.size() - 1);
+    for (std::size_t i = b; i < e; ++i)
+      midpoint[table.half[i].second] = static_cast<int>(nv + added.size() - 1);
   });
   Mesh out;
   out.V.resize(nv + static_cast<Eigen::Index>(added.size()), 3);
   out.V.topRows(nv) = mesh.V;
-  for (std::size_t i = 0; i < added.size(); ++i) out.V.row(nv + static_cast<Eigen::Index>(i)) = added[i];
+  for (std::size_t i = 0; i < added.size(); ++i)
+    out.V.row(nv + static_cast<Eigen::Index>(i)) = added[i];
   out.F.resize(4 * nf, 3);
   for (Eigen::Index f = 0; f < nf; ++f) {
     const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
@@ -132,7 +134,8 @@ Mesh remesh_uniform(const Mesh& input, int target_faces,
   SM sm;
   std::vector<SM::Vertex_index> vs;
   vs.reserve(mesh.V.rows());
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) vs.push_back(sm.add_vertex(Point(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2))));
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    vs.push_back(sm.add_vertex(Point(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2))));
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
     if (sm.add_face(vs[mesh.F(f, 0)], vs[mesh.F(f, 1)], vs[mesh.F(f, 2)]) == SM::null_face()) {
       throw InputError("remeshing failed: face " + std::to_string(f) +
@@ -146,19 +149,19 @@ Mesh remesh_uniform(const Mesh& input, int target_faces,
   target_faces = std::max(target_faces, kMinRemeshFaces);
   const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
   const double area = PMP::area(sm);
-  const double L = std::min(std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces)),
-                            diagonal / 20.0);
+  const double L =
+      std::min(std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces)), diagonal / 20.0);
   if (static_cast<double>(sm.number_of_faces()) > 2.0 * target_faces) {
     EdgeCountStop stop(static_cast<std::size_t>(1.5 * target_faces));
     PollingCollapseVisitor visitor;
     visitor.poll = &poll;
     visitor.from = 0.0;
     visitor.to = 0.6;
-    SMS::edge_collapse(sm, stop,
-                       CGAL::parameters::get_cost(SMS::Edge_length_cost<SM>())
-                           .get_placement(SMS::Bounded_normal_change_placement<
-                                          SMS::Midpoint_placement<SM>>())
-                           .visitor(visitor));
+    SMS::edge_collapse(
+        sm, stop,
+        CGAL::parameters::get_cost(SMS::Edge_length_cost<SM>())
+            .get_placement(SMS::Bounded_normal_change_placement<SMS::Midpoint_placement<SM>>())
+            .visitor(visitor));
     sm.collect_garbage();
   }
   poll(0.6);

@@ -53,7 +53,8 @@ Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
     s.radii[i] = graph.radii[p];
     if (s.kinds[i] == NodeKind::End) {
       const int prong = graph.prong[p];
-      s.significance[i] = prong >= 0 && prong < prong_significance.size() ? prong_significance[prong] : 1.0;
+      s.significance[i] =
+          prong >= 0 && prong < prong_significance.size() ? prong_significance[prong] : 1.0;
     }
   }
   s.links = graph.links;
@@ -69,7 +70,8 @@ void skeleton_to_input(Skeleton& s, const PreparedMesh& pm, const Faces& F_in,
     s.positions.row(i) = pm.to_input(s.positions.row(i));
   }
   for (auto& polyline : s.polylines) {
-    for (Eigen::Index i = 0; i < polyline.rows(); ++i) polyline.row(i) = pm.to_input(polyline.row(i));
+    for (Eigen::Index i = 0; i < polyline.rows(); ++i)
+      polyline.row(i) = pm.to_input(polyline.row(i));
   }
   s.radii *= pm.scale;
   const Eigen::VectorXi working_labels = s.face_labels;

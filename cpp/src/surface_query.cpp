@@ -100,8 +100,8 @@ struct SurfaceQuery::Impl {
   Mesh mesh;
   RTCScene scene = nullptr;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // Embree holds vertices - center
-  std::vector<Eigen::Vector3d> face_normal;    // unit (zero for degenerate faces)
-  std::vector<Eigen::Vector3d> vertex_normal;  // angle-weighted pseudo-normals
+  std::vector<Eigen::Vector3d> face_normal;          // unit (zero for degenerate faces)
+  std::vector<Eigen::Vector3d> vertex_normal;        // angle-weighted pseudo-normals
   // Edge pseudo-normals: per face corner k, the edge (F(f,k), F(f,(k+1)%3)).
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normal;
   double diag = 1.0;
@@ -125,9 +125,9 @@ struct SurfaceQuery::Impl {
     const Mesh& m = c->self->mesh;
     const int f = static_cast<int>(args->primID);
     std::array<double, 3> l;
-    const Eigen::Vector3d q = closest_on_triangle(c->p, m.V.row(m.F(f, 0)).transpose(),
-                                                  m.V.row(m.F(f, 1)).transpose(),
-                                                  m.V.row(m.F(f, 2)).transpose(), l);
+    const Eigen::Vector3d q =
+        closest_on_triangle(c->p, m.V.row(m.F(f, 0)).transpose(), m.V.row(m.F(f, 1)).transpose(),
+                            m.V.row(m.F(f, 2)).transpose(), l);
     const double d = (q - c->p).norm();
     if (d < c->best || (c->face < 0 && d <= c->best)) {
       c->best = d;
@@ -174,8 +174,10 @@ struct SurfaceQuery::Impl {
       const double eps = 1e-7;
       int small = 0, big = -1;
       for (int k = 0; k < 3; ++k) {
-        if (c.l[k] < eps) ++small;
-        else big = k;
+        if (c.l[k] < eps)
+          ++small;
+        else
+          big = k;
       }
       if (small == 0) {
         *normal = face_normal[c.face];
@@ -250,8 +252,10 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
   const auto& F = m.mesh.F;
   const int nv = static_cast<int>(V.rows()), nf = static_cast<int>(F.rows());
   if (nv == 0 || nf == 0) throw InputError("SurfaceQuery: the mesh has no faces");
-  if (F.minCoeff() < 0 || F.maxCoeff() >= nv) throw InputError("SurfaceQuery: face index out of range");
-  const Eigen::Vector3d lo = V.colwise().minCoeff().transpose(), hi = V.colwise().maxCoeff().transpose();
+  if (F.minCoeff() < 0 || F.maxCoeff() >= nv)
+    throw InputError("SurfaceQuery: face index out of range");
+  const Eigen::Vector3d lo = V.colwise().minCoeff().transpose(),
+                        hi = V.colwise().maxCoeff().transpose();
   m.diag = (hi - lo).norm();
   if (!(m.diag > 0) || !std::isfinite(m.diag)) m.diag = 1.0;
   m.center = 0.5 * (lo + hi);
@@ -269,8 +273,9 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
   for (int f = 0; f < nf; f += kChunk) {
     if (poll) poll();
     m.face_normal.resize(std::min(nf, f + kChunk), Eigen::Vector3d::Zero());
-    m.edge_normal.resize(std::min(nf, f + kChunk),
-                         {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+    m.edge_normal.resize(
+        std::min(nf, f + kChunk),
+        {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
   }
 
   for (int f = 0; f < nf; ++f) {
@@ -294,7 +299,8 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
   edges.for_each_edge([&](std::size_t i, std::size_t j) {
     if (poll && (++edges_seen & 32767) == 0) poll();
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (std::size_t h = i; h < j; ++h) sum += m.face_normal[internal::EdgeTable::face(edges.half[h].second)];
+    for (std::size_t h = i; h < j; ++h)
+      sum += m.face_normal[internal::EdgeTable::face(edges.half[h].second)];
     for (std::size_t h = i; h < j; ++h) {
       const int corner = edges.half[h].second;
       m.edge_normal[internal::EdgeTable::face(corner)][corner % 3] = sum;
@@ -377,7 +383,7 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
   const Impl& m = *impl_;
   const Eigen::Vector3d o = origin - m.center;
   const float org[3] = {static_cast<float>(o.x()), static_cast<float>(o.y()),
-                       static_cast<float>(o.z())};
+                        static_cast<float>(o.z())};
   const float inf = std::numeric_limits<float>::infinity();
   for (int start = 0; start < count; start += 8) {
     alignas(32) RTCRayHit8 rh;
@@ -393,7 +399,8 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
     internal::intersect8(valid, m.scene, &rh, /*coherent=*/true);  // one origin
     for (int k = 0; k < n; ++k) {
       const bool hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-      t[start + k] = hit ? static_cast<double>(rh.ray.tfar[k]) : std::numeric_limits<double>::infinity();
+      t[start + k] =
+          hit ? static_cast<double>(rh.ray.tfar[k]) : std::numeric_limits<double>::infinity();
       if (faces) faces[start + k] = hit ? static_cast<int>(rh.hit.primID[k]) : -1;
       if (from_inside) {
         unsigned char inside = 0;
@@ -401,7 +408,8 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
           const Eigen::Vector3d& nrm = m.face_normal[rh.hit.primID[k]];
           const int r = start + k;
           inside = nrm.x() * directions[3 * r] + nrm.y() * directions[3 * r + 1] +
-                           nrm.z() * directions[3 * r + 2] > 0
+                               nrm.z() * directions[3 * r + 2] >
+                           0
                        ? 1
                        : 0;
         }

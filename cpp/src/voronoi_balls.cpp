@@ -243,7 +243,9 @@ Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
 
   std::vector<std::pair<Delaunay::Point, int>> points;
   points.reserve(picked.size());
-  for (int i : picked) points.emplace_back(Delaunay::Point(candidates[i].x(), candidates[i].y(), candidates[i].z()), i);
+  for (int i : picked)
+    points.emplace_back(Delaunay::Point(candidates[i].x(), candidates[i].y(), candidates[i].z()),
+                        i);
   tick(0.3);
   Delaunay dt(points.begin(), points.end());
   tick(0.45);

@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/SparseCholesky>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <Eigen/SparseCholesky>
 
 #include "dcg/errors.h"
 #include "dcg/options.h"
@@ -142,7 +142,7 @@ enum class SourceRule { NearestIfVisible, NearestVisible, Nearest };
 // The heat sources of one vertex: H and the bones sharing it (p = 1 / count).
 struct Source {
   double distance = std::numeric_limits<double>::infinity();  // to the nearest visible bone
-  int first = -1;   // nearest visible bone (lowest index among ties), -1: none
+  int first = -1;         // nearest visible bone (lowest index among ties), -1: none
   std::vector<int> tied;  // every bone within the tie tolerance (first included); empty: none
 };
 
@@ -151,11 +151,11 @@ struct Source {
 struct BoneHeat::Impl {
   Vertices V;
   Faces F;
-  Eigen::SparseMatrix<double> L;   // cotangent Laplacian (negative semi-definite)
-  Eigen::SparseMatrix<double> K;   // -L, lower triangle only (what the factorization reads)
-  Eigen::VectorXd area;            // mixed Voronoi vertex areas
-  Vertices normal;                 // unit vertex normals (sums of unit face normals)
-  Eigen::VectorXi component;       // connected component of each vertex
+  Eigen::SparseMatrix<double> L;  // cotangent Laplacian (negative semi-definite)
+  Eigen::SparseMatrix<double> K;  // -L, lower triangle only (what the factorization reads)
+  Eigen::VectorXd area;           // mixed Voronoi vertex areas
+  Vertices normal;                // unit vertex normals (sums of unit face normals)
+  Eigen::VectorXi component;      // connected component of each vertex
   int component_count = 0;
   Eigen::RowVector3d center = Eigen::RowVector3d::Zero();  // subtracted before Embree's floats
   double mean_edge = 0;
@@ -504,51 +504,55 @@ SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
   constexpr int kChunk = 1 << 15;
   for (int chunk = 0; chunk < n_in; chunk += kChunk) {
     progress.report("weights", at(0.9 + 0.1 * chunk / n_in));
-    tbb::parallel_for(tbb::blocked_range<int>(chunk, std::min(n_in, chunk + kChunk), 512),
-                      [&](const tbb::blocked_range<int>& r) {
-      Eigen::RowVectorXd row(nb);
-      std::vector<int> order(nb);
-      for (int i = r.begin(); i != r.end(); ++i) {
-        const int f = prepared.map_face[i];
-        row.setZero();
-        for (int c = 0; c < 3; ++c) row += prepared.map_barycentric(i, c) * W.row(working.F(f, c));
-        std::iota(order.begin(), order.end(), 0);
-        std::partial_sort(order.begin(), order.begin() + keep, order.end(),
-                          [&](int a, int b) { return row[a] > row[b] || (row[a] == row[b] && a < b); });
-        const double best = row[order[0]];
-        if (!(best > 0)) {
-          // Nothing reached this vertex (not expected): its nearest bone, through the volume.
-          fallback[i] = 1;
-          const Eigen::Vector3d p =
-              ((working.V.row(working.F(f, 0)) * prepared.map_barycentric(i, 0) +
-                working.V.row(working.F(f, 1)) * prepared.map_barycentric(i, 1) +
-                working.V.row(working.F(f, 2)) * prepared.map_barycentric(i, 2)))
-                  .transpose();
-          int nearest = 0;
-          double nearest_d = std::numeric_limits<double>::infinity();
-          for (int b = 0; b < nb; ++b) {
-            const double d = point_segment_distance(p, normalized.heads.row(b).transpose(),
-                                                    normalized.tails.row(b).transpose());
-            if (d < nearest_d) nearest_d = d, nearest = b;
+    tbb::parallel_for(
+        tbb::blocked_range<int>(chunk, std::min(n_in, chunk + kChunk), 512),
+        [&](const tbb::blocked_range<int>& r) {
+          Eigen::RowVectorXd row(nb);
+          std::vector<int> order(nb);
+          for (int i = r.begin(); i != r.end(); ++i) {
+            const int f = prepared.map_face[i];
+            row.setZero();
+            for (int c = 0; c < 3; ++c)
+              row += prepared.map_barycentric(i, c) * W.row(working.F(f, c));
+            std::iota(order.begin(), order.end(), 0);
+            std::partial_sort(order.begin(), order.begin() + keep, order.end(), [&](int a, int b) {
+              return row[a] > row[b] || (row[a] == row[b] && a < b);
+            });
+            const double best = row[order[0]];
+            if (!(best > 0)) {
+              // Nothing reached this vertex (not expected): its nearest bone, through the volume.
+              fallback[i] = 1;
+              const Eigen::Vector3d p =
+                  ((working.V.row(working.F(f, 0)) * prepared.map_barycentric(i, 0) +
+                    working.V.row(working.F(f, 1)) * prepared.map_barycentric(i, 1) +
+                    working.V.row(working.F(f, 2)) * prepared.map_barycentric(i, 2)))
+                      .transpose();
+              int nearest = 0;
+              double nearest_d = std::numeric_limits<double>::infinity();
+              for (int b = 0; b < nb; ++b) {
+                const double d = point_segment_distance(p, normalized.heads.row(b).transpose(),
+                                                        normalized.tails.row(b).transpose());
+                if (d < nearest_d) nearest_d = d, nearest = b;
+              }
+              top_bone(i, 0) = nearest;
+              top_value(i, 0) = 1.0;
+              continue;
+            }
+            // The strongest bone always; the others faded out below min_weight (see weights.h).
+            const double m = options.min_weight;
+            double sum = 0;
+            for (int k = 0; k < keep; ++k) {
+              double value = row[order[k]];
+              if (k > 0 && value < m)
+                value = value < 0.5 * m ? 0.0 : (value - 0.5 * m) / (0.5 * m) * m;
+              if (!(value > 0)) break;
+              top_bone(i, k) = order[k];
+              top_value(i, k) = value;
+              sum += value;
+            }
+            top_value.row(i) /= sum;
           }
-          top_bone(i, 0) = nearest;
-          top_value(i, 0) = 1.0;
-          continue;
-        }
-        // The strongest bone always; the others faded out below min_weight (see weights.h).
-        const double m = options.min_weight;
-        double sum = 0;
-        for (int k = 0; k < keep; ++k) {
-          double value = row[order[k]];
-          if (k > 0 && value < m) value = value < 0.5 * m ? 0.0 : (value - 0.5 * m) / (0.5 * m) * m;
-          if (!(value > 0)) break;
-          top_bone(i, k) = order[k];
-          top_value(i, k) = value;
-          sum += value;
-        }
-        top_value.row(i) /= sum;
-      }
-    });
+        });
   }
   out.fallback_vertices = static_cast<int>(std::count(fallback.begin(), fallback.end(), 1));
 

@@ -3,11 +3,11 @@
 // generator so tests are deterministic.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <algorithm>
 #include <functional>
 #include <limits>
 #include <map>
@@ -35,7 +35,8 @@ inline std::string meshes_dir() {
   return std::string(DCG_SOURCE_DIR) + "/../shared/meshes";
 }
 
-inline Mesh make_mesh(const std::vector<Eigen::Vector3d>& V, const std::vector<std::array<int, 3>>& F) {
+inline Mesh make_mesh(const std::vector<Eigen::Vector3d>& V,
+                      const std::vector<std::array<int, 3>>& F) {
   Mesh m;
   m.V.resize(static_cast<Eigen::Index>(V.size()), 3);
   for (std::size_t i = 0; i < V.size(); ++i) m.V.row(i) = V[i].transpose();
@@ -116,7 +117,8 @@ inline Mesh capsule(double radius, double length, int rings = 12, int segments =
     const double theta = 0.5 * M_PI * i / rings;
     rows.emplace_back(0.5 * length + radius * std::cos(theta), radius * std::sin(theta));
   }
-  for (int i = 1; i < sections; ++i) rows.emplace_back(0.5 * length - length * i / sections, radius);
+  for (int i = 1; i < sections; ++i)
+    rows.emplace_back(0.5 * length - length * i / sections, radius);
   for (int i = 0; i < rings; ++i) {
     const double theta = 0.5 * M_PI + 0.5 * M_PI * i / rings;
     rows.emplace_back(-0.5 * length + radius * std::cos(theta), radius * std::sin(theta));
@@ -190,7 +192,8 @@ inline Mesh marching_tetrahedra(const std::function<double(const Eigen::Vector3d
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         int corner[8];
-        for (int b = 0; b < 8; ++b) corner[b] = (i + (b & 1)) + (j + ((b >> 1) & 1)) * m + (k + ((b >> 2) & 1)) * m * m;
+        for (int b = 0; b < 8; ++b)
+          corner[b] = (i + (b & 1)) + (j + ((b >> 1) & 1)) * m + (k + ((b >> 2) & 1)) * m * m;
         for (const auto& tet : tets) {
           std::vector<int> in, out;
           for (int c : tet) (value[corner[c]] < 0 ? in : out).push_back(corner[c]);
@@ -320,8 +323,8 @@ inline double triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d&
 inline double brute_force_distance(const Mesh& m, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    best = std::min(best, triangle_distance(p, m.V.row(m.F(f, 0)), m.V.row(m.F(f, 1)),
-                                            m.V.row(m.F(f, 2))));
+    best = std::min(
+        best, triangle_distance(p, m.V.row(m.F(f, 0)), m.V.row(m.F(f, 1)), m.V.row(m.F(f, 2))));
   }
   return best;
 }
@@ -380,7 +383,9 @@ inline bool is_closed_oriented_manifold(const Mesh& m) {
 inline int component_count(const Mesh& m) {
   std::vector<int> parent(m.V.rows());
   for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
-  std::function<int(int)> find = [&](int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+  std::function<int(int)> find = [&](int x) {
+    return parent[x] == x ? x : parent[x] = find(parent[x]);
+  };
   std::vector<char> used(m.V.rows(), 0);
   for (Eigen::Index f = 0; f < m.F.rows(); ++f)
     for (int k = 0; k < 3; ++k) {

@@ -72,20 +72,23 @@ inline SkeletonQuality skeleton_quality(const Mesh& input, const Skeleton& s) {
     // Two points inside with the segment between them out through a fold: a bone out of the
     // skin all the same.
     for (Eigen::Index i = 0; i + 1 < p.rows(); ++i) {
-      q.crossing_segments += surface.segment_blocked(p.row(i).transpose(), p.row(i + 1).transpose());
+      q.crossing_segments +=
+          surface.segment_blocked(p.row(i).transpose(), p.row(i + 1).transpose());
     }
   }
-  for (Eigen::Index f = 0; f < s.face_labels.size(); ++f) q.unlabelled_faces += s.face_labels[f] < 0;
+  for (Eigen::Index f = 0; f < s.face_labels.size(); ++f)
+    q.unlabelled_faces += s.face_labels[f] < 0;
   return q;
 }
 
 inline std::string describe(const SkeletonQuality& q) {
   char buf[256];
-  std::snprintf(buf, sizeof buf,
-                "%d nodes (%d ends, %d joints, %d connections), %d links, %d cycles, %d components, "
-                "%.1f%% of %d points inside, %d segments crossing out, %d faces unlabelled",
-                q.nodes, q.ends, q.joints, q.connections, q.links, q.cycles, q.components,
-                q.inside_percent(), q.points, q.crossing_segments, q.unlabelled_faces);
+  std::snprintf(
+      buf, sizeof buf,
+      "%d nodes (%d ends, %d joints, %d connections), %d links, %d cycles, %d components, "
+      "%.1f%% of %d points inside, %d segments crossing out, %d faces unlabelled",
+      q.nodes, q.ends, q.joints, q.connections, q.links, q.cycles, q.components, q.inside_percent(),
+      q.points, q.crossing_segments, q.unlabelled_faces);
   return buf;
 }
 

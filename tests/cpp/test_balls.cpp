@@ -23,7 +23,8 @@ namespace test = dcg::test;
 const dcg::PreparedMesh& small_mesh() {
   static const dcg::PreparedMesh pm = [] {
     std::mt19937 rng(11);
-    const Mesh m = test::transformed(test::capsule(0.2, 2.0, 6, 16, 10), test::random_rotation(rng), 3.0);
+    const Mesh m =
+        test::transformed(test::capsule(0.2, 2.0, 6, 16, 10), test::random_rotation(rng), 3.0);
     dcg::PrepareOptions o;
     o.target_faces = 0;  // keep it small: brute force is O(balls x faces)
     return dcg::prepare_mesh(m.V, m.F, o);
@@ -44,14 +45,16 @@ TEST(SurfaceQuery, ClosestPointAndInsideMatchBruteForce) {
     EXPECT_NEAR((c - p).norm(), reference, 1e-9);
     EXPECT_NEAR(q.distance(p), reference, 1e-9);
     ASSERT_GE(face, 0);
-    EXPECT_NEAR(test::triangle_distance(c, m.V.row(m.F(face, 0)), m.V.row(m.F(face, 1)), m.V.row(m.F(face, 2))), 0.0,
-                1e-9);
+    EXPECT_NEAR(test::triangle_distance(c, m.V.row(m.F(face, 0)), m.V.row(m.F(face, 1)),
+                                        m.V.row(m.F(face, 2))),
+                0.0, 1e-9);
     const bool inside = test::winding_number(m, p) > 0.5;
     EXPECT_EQ(q.inside(p), inside) << p.transpose();
     EXPECT_NEAR(std::abs(q.signed_distance(p)), reference, 1e-9);
     EXPECT_EQ(q.signed_distance(p) < 0, inside);
     // A hint anywhere on the surface gives the same answer.
-    EXPECT_NEAR(q.signed_distance(p, m.V.row(m.F(7, 0)).transpose(), 7), q.signed_distance(p), 1e-12);
+    EXPECT_NEAR(q.signed_distance(p, m.V.row(m.F(7, 0)).transpose(), 7), q.signed_distance(p),
+                1e-12);
   }
 }
 
@@ -101,7 +104,8 @@ TEST(VoronoiBalls, SamplesCoverTheWholeSurface) {
   const dcg::Balls balls = dcg::compute_voronoi_balls(pm.working, *pm.query, o);
   double area = 0;
   for (Eigen::Index f = 0; f < pm.working.F.rows(); ++f) {
-    const Eigen::Vector3d a = pm.working.V.row(pm.working.F(f, 0)), b = pm.working.V.row(pm.working.F(f, 1)),
+    const Eigen::Vector3d a = pm.working.V.row(pm.working.F(f, 0)),
+                          b = pm.working.V.row(pm.working.F(f, 1)),
                           c = pm.working.V.row(pm.working.F(f, 2));
     area += 0.5 * (b - a).cross(c - a).norm();
   }
@@ -150,7 +154,8 @@ TEST(DomainBalls, DisjointInsideGreedyAndExact) {
     bool conflict = false;
     for (Eigen::Index i = 0; i < k && !conflict; ++i) {
       conflict = B.radii[i] >= candidates.radii[c] &&
-                 (B.centers.row(i) - candidates.centers.row(c)).norm() <= B.radii[i] + candidates.radii[c] + o.min_gap;
+                 (B.centers.row(i) - candidates.centers.row(c)).norm() <=
+                     B.radii[i] + candidates.radii[c] + o.min_gap;
     }
     EXPECT_TRUE(conflict) << "candidate " << c << " could have been accepted";
   }

@@ -24,7 +24,8 @@ dcg::Points random_inside(const dcg::SurfaceQuery& q, const Mesh& m, int count, 
   std::uniform_real_distribution<double> u(0, 1);
   dcg::Points out(count, 3);
   for (int i = 0; i < count;) {
-    const Eigen::RowVector3d p = lo.array() + (hi - lo).array() * Eigen::RowVector3d(u(rng), u(rng), u(rng)).array();
+    const Eigen::RowVector3d p =
+        lo.array() + (hi - lo).array() * Eigen::RowVector3d(u(rng), u(rng), u(rng)).array();
     if (q.distance(p.transpose()) > 0.02 && q.inside(p.transpose())) out.row(i++) = p;
   }
   return out;
@@ -52,7 +53,8 @@ TEST(ConnectionPoints, ShrinkingStaysInsideLowersTheFieldAndStops) {
   ASSERT_LT(c, start.rows());
   for (int a = 0; a < c; ++a) {
     for (int b = a + 1; b < c; ++b) {
-      EXPECT_GE((cp.positions.row(a) - cp.positions.row(b)).norm(), 0.5 * std::min(cp.radii[a], cp.radii[b]) - 1e-12);
+      EXPECT_GE((cp.positions.row(a) - cp.positions.row(b)).norm(),
+                0.5 * std::min(cp.radii[a], cp.radii[b]) - 1e-12);
     }
     EXPECT_EQ(cp.cluster[cp.source[a]], a);
     if (a > 0) {

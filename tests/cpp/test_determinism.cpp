@@ -78,8 +78,7 @@ dcg::Options fast_options() {
 }
 
 TEST(Determinism, SpotIsBitIdenticalOnOneAndTwoThreads) {
-  check_deterministic(dcg::read_mesh(dcg::test::repo_file("data/spot.obj")),
-                      fast_options());
+  check_deterministic(dcg::read_mesh(dcg::test::repo_file("data/spot.obj")), fast_options());
 }
 
 TEST(Determinism, StarWithOtherSeedIsBitIdentical) {

@@ -40,7 +40,8 @@ struct Scene {
 // `count` points on the core circle of a torus of ring radius 1.
 dcg::Points ring(int count) {
   dcg::Points p(count, 3);
-  for (int i = 0; i < count; ++i) p.row(i) << std::cos(2 * M_PI * i / count), std::sin(2 * M_PI * i / count), 0;
+  for (int i = 0; i < count; ++i)
+    p.row(i) << std::cos(2 * M_PI * i / count), std::sin(2 * M_PI * i / count), 0;
   return p;
 }
 
@@ -57,8 +58,8 @@ void expect_labels_are_a_partition(const dcg::DomainGraph& g, int faces) {
 TEST(DomainGraph, TorusRingGivesOneCycleAndNoEnd) {
   Scene s(test::torus(1.0, 0.35, 64, 24));
   const dcg::Points p = ring(10);
-  const dcg::DomainGraph g =
-      dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p), Eigen::VectorXi::Constant(10, -1), 1);
+  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p),
+                                                       Eigen::VectorXi::Constant(10, -1), 1);
   expect_labels_are_a_partition(g, static_cast<int>(s.mesh.F.rows()));
   EXPECT_EQ(g.candidates.rows(), 10) << "each ring point touches its two neighbours only";
   for (Eigen::Index l = 0; l < g.costs.size(); ++l) EXPECT_TRUE(std::isfinite(g.costs[l]));
@@ -71,8 +72,8 @@ TEST(DomainGraph, TorusRingGivesOneCycleAndNoEnd) {
 TEST(DomainGraph, GenusCapsTheCycles) {
   Scene s(test::torus(1.0, 0.35, 64, 24));
   const dcg::Points p = ring(10);
-  const dcg::DomainGraph g =
-      dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p), Eigen::VectorXi::Constant(10, -1), 0);
+  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p),
+                                                       Eigen::VectorXi::Constant(10, -1), 0);
   EXPECT_EQ(g.cycles, 0);
   // A tree without end points keeps its longest path: two ends, no joint.
   int ends = 0;
@@ -85,7 +86,8 @@ TEST(DomainGraph, CyclesWhosePointsSeeEachOtherAreNotHandles) {
   // A fat sphere told it has genus 1: points on a small circle around its center see each other.
   Scene s(test::icosphere(4, 1.0));
   dcg::Points p(7, 3);
-  for (int i = 0; i < 6; ++i) p.row(i) << 0.5 * std::cos(M_PI * i / 3), 0.5 * std::sin(M_PI * i / 3), 0;
+  for (int i = 0; i < 6; ++i)
+    p.row(i) << 0.5 * std::cos(M_PI * i / 3), 0.5 * std::sin(M_PI * i / 3), 0;
   p.row(6) << 0, 0, 0.6;
   Eigen::VectorXi prong = Eigen::VectorXi::Constant(7, -1);
   prong[6] = 0;
@@ -93,7 +95,8 @@ TEST(DomainGraph, CyclesWhosePointsSeeEachOtherAreNotHandles) {
   o.prune = false;
   o.contract = false;
   o.merge_joints = false;
-  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p), prong, 1, o);
+  const dcg::DomainGraph g =
+      dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p), prong, 1, o);
   EXPECT_EQ(g.cycles, 0);
   EXPECT_GT(g.cycles_rejected_visible, 0);
   expect_labels_are_a_partition(g, static_cast<int>(s.mesh.F.rows()));
@@ -103,7 +106,8 @@ TEST(DomainGraph, CapsuleChainKeepsItsEndsAndPrunesTwigs) {
   Scene s(test::capsule(0.5, 3.0));
   // Axis points, two end points near the tips, and a twig point off the axis.
   dcg::Points p(8, 3);
-  p << 0, 0, -1.0, 0, 0, -0.2, 0, 0, 0.6, 0, 0, 1.3, 0.3, 0, 0.2, 0, 0, 1.85, 0, 0, -1.85, 0, 0.3, -0.6;
+  p << 0, 0, -1.0, 0, 0, -0.2, 0, 0, 0.6, 0, 0, 1.3, 0.3, 0, 0.2, 0, 0, 1.85, 0, 0, -1.85, 0, 0.3,
+      -0.6;
   Eigen::VectorXi prong = Eigen::VectorXi::Constant(8, -1);
   prong[5] = 0;
   prong[6] = 1;
@@ -158,13 +162,14 @@ struct HShape {
       for (double x : {-2.5, 2.5}) p.emplace_back(x, 0, z);
     if (middle) p.emplace_back(0, 0, 0);
     points.resize(static_cast<Eigen::Index>(p.size()), 3);
-    for (std::size_t i = 0; i < p.size(); ++i) points.row(static_cast<Eigen::Index>(i)) = p[i].transpose();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      points.row(static_cast<Eigen::Index>(i)) = p[i].transpose();
     prong = Eigen::VectorXi::Constant(points.rows(), -1);
     for (int k = 0; k < 4; ++k) prong[6 + k] = k;
   }
   int joints() const {
-    const dcg::DomainGraph g = dcg::compute_domain_graph(scene.mesh, *scene.field, points,
-                                                         scene.radii(points), prong, 0);
+    const dcg::DomainGraph g =
+        dcg::compute_domain_graph(scene.mesh, *scene.field, points, scene.radii(points), prong, 0);
     int ends = 0, joints = 0;
     for (std::size_t i = 0; i < g.nodes.size(); ++i) {
       ends += g.kinds[i] == dcg::NodeKind::End;
@@ -236,15 +241,15 @@ TEST(DomainGraph, AnEndNextToAJunctionStays) {
   // end point e lies 0.7 from the junction v, inside v's ball (a short link), but far out of
   // the arms' tubes (no bump): neither contraction nor the bumps take it.
   enum { v, w1, w2, e, E1, E2 };
-  const Placed s(
-      test::marching_tetrahedra(
-          [](const Eigen::Vector3d& q) {
-            const double phi = std::min(q.norm() - 0.8, tube(q, {0, 0, -2}, {0, 0, 2}, 0.3));
-            return std::min(phi, tube(q, {0, 0, 0}, {1, 0, 0}, 0.3));
-          },
-          -2.5, 2.5, 64),
-      {{0, 0, 0}, {0, 0, 1.4}, {0, 0, -1.4}, {0.7, 0, 0}, {0, 0, 2.05}, {0, 0, -2.05}},
-      {e, E1, E2});
+  const Placed s(test::marching_tetrahedra(
+                     [](const Eigen::Vector3d& q) {
+                       const double phi =
+                           std::min(q.norm() - 0.8, tube(q, {0, 0, -2}, {0, 0, 2}, 0.3));
+                       return std::min(phi, tube(q, {0, 0, 0}, {1, 0, 0}, 0.3));
+                     },
+                     -2.5, 2.5, 64),
+                 {{0, 0, 0}, {0, 0, 1.4}, {0, 0, -1.4}, {0.7, 0, 0}, {0, 0, 2.05}, {0, 0, -2.05}},
+                 {e, E1, E2});
   dcg::internal::GraphWork w = s.pruned(0);
   ASSERT_EQ(w.graph.adj[e], Neighbours{v});
   ASSERT_EQ(w.graph.adj[v], (Neighbours{w1, w2, e}));
@@ -308,11 +313,13 @@ TEST(DomainGraph, TwoEndsAreNeverContracted) {
 TEST(DomainGraph, BadInputIsRefused) {
   Scene s(test::icosphere(2));
   const dcg::Points none(0, 3);
-  EXPECT_THROW(dcg::compute_domain_graph(s.mesh, *s.field, none, Eigen::VectorXd(), Eigen::VectorXi(), 0),
-               dcg::InputError);
+  EXPECT_THROW(
+      dcg::compute_domain_graph(s.mesh, *s.field, none, Eigen::VectorXd(), Eigen::VectorXi(), 0),
+      dcg::InputError);
   dcg::Points one(1, 3);
   one << 0, 0, 0;
-  EXPECT_THROW(dcg::compute_domain_graph(s.mesh, *s.field, one, Eigen::VectorXd::Ones(2), Eigen::VectorXi::Zero(1), 0),
+  EXPECT_THROW(dcg::compute_domain_graph(s.mesh, *s.field, one, Eigen::VectorXd::Ones(2),
+                                         Eigen::VectorXi::Zero(1), 0),
                dcg::InputError);
 }
 
@@ -320,12 +327,13 @@ TEST(DomainGraph, ASinglePointGetsASpine) {
   Scene s(test::icosphere(3));
   dcg::Points one(1, 3);
   one << 0, 0, 0;
-  const dcg::DomainGraph g =
-      dcg::compute_domain_graph(s.mesh, *s.field, one, s.radii(one), Eigen::VectorXi::Constant(1, -1), 0);
+  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, one, s.radii(one),
+                                                       Eigen::VectorXi::Constant(1, -1), 0);
   EXPECT_EQ(g.nodes.size(), 3u);
   EXPECT_EQ(g.links.rows(), 2);
   for (int f = 0; f < s.mesh.F.rows(); ++f) EXPECT_EQ(g.face_labels[f], 0);
-  for (Eigen::Index i = 0; i < g.points.rows(); ++i) EXPECT_TRUE(s.query->inside(g.points.row(i).transpose()));
+  for (Eigen::Index i = 0; i < g.points.rows(); ++i)
+    EXPECT_TRUE(s.query->inside(g.points.row(i).transpose()));
 }
 
 }  // namespace

@@ -54,8 +54,8 @@ TEST(EndPoints, GraphPointsAreConnectionPointsThenSeenThenUnseenEnds) {
   ends.ball = Eigen::Vector4i(5, -1, 7, -1);
   ends.centers = star.pf.prongs.positions;
   ends.radii = Eigen::Vector4d(0.01, 0, 0.02, 0);
-  const dcg::GraphPoints g = dcg::graph_points(cp, ends, star.pf.prongs, star.pm.working,
-                                               *star.pm.query, cp.positions);
+  const dcg::GraphPoints g =
+      dcg::graph_points(cp, ends, star.pf.prongs, star.pm.working, *star.pm.query, cp.positions);
   ASSERT_EQ(g.points.rows(), 6);
   EXPECT_EQ(g.prong, (Eigen::VectorXi(6) << -1, -1, 0, 2, 1, 3).finished());
   EXPECT_EQ(g.points.row(2), ends.centers.row(0));

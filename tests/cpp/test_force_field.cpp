@@ -51,14 +51,16 @@ TEST(ForceField, GradientMatchesCentralDifferences) {
   const dcg::ForceField field(query_of(test::torus(1.0, 0.4, 96, 48)));
   const std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
                                              Eigen::Vector3d::UnitZ()};
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.8, 0.1, 0.05), Eigen::Vector3d(-1.15, 0.2, -0.1),
-                                  Eigen::Vector3d(0.3, 0.9, 0.2)}) {
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.8, 0.1, 0.05), Eigen::Vector3d(-1.15, 0.2, -0.1),
+        Eigen::Vector3d(0.3, 0.9, 0.2)}) {
     const dcg::FieldSample s = field.at_with_gradient(p);
     ASSERT_TRUE(s.inside());
     EXPECT_NEAR(s.magnitude, field.at(p).magnitude, 1e-12);
     const Eigen::VectorXd fd = field.magnitude_slopes(p, axes, 1e-5);
     for (int k = 0; k < 3; ++k) {
-      EXPECT_NEAR(s.gradient[k], fd[k], 0.02 * fd.norm() + 1e-6) << "point " << p.transpose() << " axis " << k;
+      EXPECT_NEAR(s.gradient[k], fd[k], 0.02 * fd.norm() + 1e-6)
+          << "point " << p.transpose() << " axis " << k;
     }
   }
 }
@@ -90,7 +92,8 @@ TEST(ForceField, BatchesEqualSinglePointsAndCostsAreMeans) {
   }
   EXPECT_EQ(batch.outside_rays[4], field.options().rays) << "a point far outside sees no back face";
   bool inside = false;
-  const double cost = field.mean_magnitude(Eigen::Vector3d(0, 0, -0.8), Eigen::Vector3d(0, 0, 0.8), 4, &inside);
+  const double cost =
+      field.mean_magnitude(Eigen::Vector3d(0, 0, -0.8), Eigen::Vector3d(0, 0, 0.8), 4, &inside);
   EXPECT_TRUE(inside);
   double sum = 0;
   for (int i = 1; i <= 4; ++i) sum += field.at(Eigen::Vector3d(0, 0, -0.8 + 1.6 * i / 5)).magnitude;

@@ -84,7 +84,8 @@ TEST_F(TempFiles, ReadsAsciiPlyAndStl) {
 // scalar type for the coordinates, elements and properties it does not use read past.
 TEST_F(TempFiles, ReadsBinaryPlyInBothByteOrdersAndSkipsOtherElements) {
   auto header = [](const std::string& format) {
-    return "ply\r\nformat " + format + " 1.0\r\ncomment made by a test\r\n"
+    return "ply\r\nformat " + format +
+           " 1.0\r\ncomment made by a test\r\n"
            "element vertex 4\r\nproperty double x\r\nproperty float y\r\nproperty short z\r\n"
            "element edge 1\r\nproperty list ushort int pair\r\n"
            "element face 2\r\nproperty uchar flags\r\nproperty list uchar uint vertex_index\r\n"
@@ -142,29 +143,36 @@ TEST_F(TempFiles, MalformedPlyFilesAreInputErrorsThatSayWhy) {
   const Case cases[] = {
       // Found by fuzzing: CGAL read a list count of type int32 as it was and allocated it
       // (about 4.6 GB for 0xffffffff read as -1 then widened).
-      {"list-count.ply", head + "property list int int vertex_indices\nend_header\n" + vertices +
-                             std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0'),
+      {"list-count.ply",
+       head + "property list int int vertex_indices\nend_header\n" + vertices +
+           std::string("\xff\xff\xff\x7f", 4) + std::string(12, '\0'),
        "more than the rest of the file holds"},
-      {"negative-count.ply", head + "property list int int vertex_indices\nend_header\n" +
-                                 vertices + std::string("\xff\xff\xff\xff", 4),
+      {"negative-count.ply",
+       head + "property list int int vertex_indices\nend_header\n" + vertices +
+           std::string("\xff\xff\xff\xff", 4),
        "more than the rest of the file holds"},
-      {"truncated.ply", head + "property list uchar int vertex_indices\nend_header\n" + std::string(30, '\0'),
+      {"truncated.ply",
+       head + "property list uchar int vertex_indices\nend_header\n" + std::string(30, '\0'),
        "ends early"},
-      {"index.ply", head + "property list uchar int vertex_indices\nend_header\n" + vertices +
-                        "\x03" + std::string("\x00\x00\x00\x00\x01\x00\x00\x00\x09\x00\x00\x00", 12),
+      {"index.ply",
+       head + "property list uchar int vertex_indices\nend_header\n" + vertices + "\x03" +
+           std::string("\x00\x00\x00\x00\x01\x00\x00\x00\x09\x00\x00\x00", 12),
        "refers to vertex 9"},
       {"no-end.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "ends before end_header"},
       {"format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n", "format"},
-      {"no-z.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                   "end_header\n0 0\n",
+      {"no-z.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+       "end_header\n0 0\n",
        "x, y, z"},
-      {"float-index.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                          "property float y\nproperty float z\nelement face 1\n"
-                          "property list uchar int vertex_indices\nend_header\n"
-                          "0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n",
+      {"float-index.ply",
+       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+       "property float y\nproperty float z\nelement face 1\n"
+       "property list uchar int vertex_indices\nend_header\n"
+       "0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n",
        "whole number"},
-      {"word.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                   "property float z\nend_header\n0 zero 0\n",
+      {"word.ply",
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+       "property float z\nend_header\n0 zero 0\n",
        "'zero'"},
   };
   for (const Case& c : cases) {

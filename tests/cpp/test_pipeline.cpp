@@ -215,7 +215,8 @@ void expect_cancel_latency(const std::string& name, double max_seconds = 0.5) {
       const double latency = seconds_between(probe.requested_at, Clock::now());
       ASSERT_TRUE(probe.requested) << what;
       EXPECT_LT(latency, max_seconds) << name << ": " << what;
-      worst[what.substr(0, what.find(' '))] = std::max(worst[what.substr(0, what.find(' '))], latency);
+      worst[what.substr(0, what.find(' '))] =
+          std::max(worst[what.substr(0, what.find(' '))], latency);
       ++cancels;
     }
   };
@@ -245,9 +246,13 @@ void expect_cancel_latency(const std::string& name, double max_seconds = 0.5) {
   std::printf("[ cancel latency, %s, worst per stage (s):%s ]\n", name.c_str(), report.c_str());
 }
 
-TEST(Pipeline, PublicHorseCancelStopsWithinHalfASecondAndResumesWhole) { expect_cancel_latency("horse.ply"); }
+TEST(Pipeline, PublicHorseCancelStopsWithinHalfASecondAndResumesWhole) {
+  expect_cancel_latency("horse.ply");
+}
 
-TEST(Pipeline, PublicHandCancelStopsWithinHalfASecondAndResumesWhole) { expect_cancel_latency("hand.obj"); }
+TEST(Pipeline, PublicHandCancelStopsWithinHalfASecondAndResumesWhole) {
+  expect_cancel_latency("hand.obj");
+}
 
 // An open scan: stage 0 repairs it with CGAL's alpha wrap, which runs on a worker thread so that
 // a cancel need not wait for the wrap's long stretches without a callback (repair.cpp).

@@ -118,13 +118,15 @@ TEST(Prepare, ClosedInputIsKeptNormalizedAndMappedExactly) {
   EXPECT_EQ(pm.genus, 0);
   EXPECT_EQ(pm.working.F.rows(), m.F.rows());
   EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
-  const double diag = (pm.working.V.colwise().maxCoeff() - pm.working.V.colwise().minCoeff()).norm();
+  const double diag =
+      (pm.working.V.colwise().maxCoeff() - pm.working.V.colwise().minCoeff()).norm();
   EXPECT_NEAR(diag, 1.0, 1e-12);
   // The map puts every input vertex back where it was.
   ASSERT_EQ(pm.map_face.size(), m.V.rows());
   for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
     Eigen::RowVector3d p = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
+    for (int k = 0; k < 3; ++k)
+      p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
     EXPECT_LT((pm.to_input(p) - m.V.row(i)).norm(), 1e-9 * pm.scale) << i;
   }
   ASSERT_TRUE(pm.query);
@@ -171,7 +173,8 @@ TEST(Prepare, InwardFacingInputIsOrientedOutward) {
   EXPECT_FALSE(pm.repaired);
   double volume = 0;
   for (Eigen::Index f = 0; f < pm.working.F.rows(); ++f) {
-    const Eigen::Vector3d a = pm.working.V.row(pm.working.F(f, 0)), b = pm.working.V.row(pm.working.F(f, 1)),
+    const Eigen::Vector3d a = pm.working.V.row(pm.working.F(f, 0)),
+                          b = pm.working.V.row(pm.working.F(f, 1)),
                           c = pm.working.V.row(pm.working.F(f, 2));
     volume += a.dot(b.cross(c)) / 6.0;
   }
@@ -181,9 +184,10 @@ TEST(Prepare, InwardFacingInputIsOrientedOutward) {
 TEST(Prepare, GenusOfSphereTorusAndTwoTori) {
   EXPECT_EQ(dcg::mesh_genus(test::icosphere(2)), 0);
   EXPECT_EQ(dcg::mesh_genus(test::torus(1.0, 0.3)), 1);
-  EXPECT_EQ(dcg::mesh_genus(test::merged(test::torus(1.0, 0.3),
-                                         test::transformed(test::torus(1.0, 0.3), Eigen::Matrix3d::Identity(), 1.0,
-                                                           Eigen::Vector3d(5, 0, 0)))),
+  EXPECT_EQ(dcg::mesh_genus(
+                test::merged(test::torus(1.0, 0.3),
+                             test::transformed(test::torus(1.0, 0.3), Eigen::Matrix3d::Identity(),
+                                               1.0, Eigen::Vector3d(5, 0, 0)))),
             2);
   // Through prepare, with and without remeshing.
   const Mesh torus = test::torus(1.0, 0.35, 64, 32);
@@ -232,7 +236,8 @@ TEST(Prepare, RemeshingReachesAboutTheTargetAndMapsNearby) {
   EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
   for (Eigen::Index i = 0; i < m.V.rows(); ++i) {
     Eigen::RowVector3d p = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
+    for (int k = 0; k < 3; ++k)
+      p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
     EXPECT_LT((pm.to_input(p) - m.V.row(i)).norm(), 0.01 * pm.scale) << i;
     EXPECT_NEAR(pm.map_barycentric.row(i).sum(), 1.0, 1e-12);
     EXPECT_GE(pm.map_barycentric.row(i).minCoeff(), 0.0);
@@ -270,7 +275,8 @@ TEST(Prepare, HugeInputIsReducedFastIntoAClosedManifoldWithACompleteMap) {
     ASSERT_GE(pm.map_face[i], 0);
     ASSERT_LT(pm.map_face[i], pm.working.F.rows());
     Eigen::RowVector3d p = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
+    for (int k = 0; k < 3; ++k)
+      p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
     worst = std::max(worst, (pm.to_input(p) - big.V.row(i)).norm() / pm.scale);
   }
   EXPECT_LT(worst, 0.01);
@@ -317,7 +323,8 @@ TEST(Prepare, CoincidingVerticesOfAClosedMeshAreNotWelded) {
   int b = -1;  // the closest vertex that shares no face with a
   for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
     if (near_a[v]) continue;
-    if (b < 0 || (m.V.row(v) - m.V.row(a)).norm() < (m.V.row(b) - m.V.row(a)).norm()) b = static_cast<int>(v);
+    if (b < 0 || (m.V.row(v) - m.V.row(a)).norm() < (m.V.row(b) - m.V.row(a)).norm())
+      b = static_cast<int>(v);
   }
   m.V.row(b) = m.V.row(a);
   const dcg::PreparedMesh pm = dcg::prepare_mesh(m.V, m.F, keep_input());
@@ -326,7 +333,8 @@ TEST(Prepare, CoincidingVerticesOfAClosedMeshAreNotWelded) {
   EXPECT_EQ(pm.working.V.rows(), m.V.rows());
 }
 
-// --- open and multi-part input ---------------------------------------------------------------------
+// --- open and multi-part input
+// ---------------------------------------------------------------------
 
 TEST(Repair, OpenMeshRaisesWithRepairNoneNamingTheHoles) {
   const Mesh open = test::cut_above(test::icosphere(3), 0.8);
@@ -357,8 +365,9 @@ TEST(Repair, OpenMeshIsWrappedIntoAClosedManifold) {
 }
 
 TEST(Repair, MultiPartInputRaisesOrIsWrapped) {
-  const Mesh two = test::merged(test::icosphere(2), test::transformed(test::icosphere(2), Eigen::Matrix3d::Identity(),
-                                                                      1.0, Eigen::Vector3d(1.5, 0, 0)));
+  const Mesh two = test::merged(
+      test::icosphere(2), test::transformed(test::icosphere(2), Eigen::Matrix3d::Identity(), 1.0,
+                                            Eigen::Vector3d(1.5, 0, 0)));
   dcg::PrepareOptions none;
   none.repair = dcg::Repair::None;
   const std::string message = prepare_error(two, none);

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "dcg/end_points.h"
 #include "dcg/errors.h"
 #include "dcg/io.h"
 #include "dcg/prepare.h"
-#include "dcg/end_points.h"
 #include "dcg/prongs.h"
 #include "dcg/surface_query.h"
 #include "dcg/voronoi_balls.h"
@@ -64,9 +64,10 @@ TEST(ScaleFunction, SampledSumIsWithinTwoPercentOfTheExactSum) {
   const Eigen::VectorXd plain = dcg::exact_scale_function(m, false);  // the paper's sum / n
   const double error = ((sampled.values - exact).array().abs() / exact.array()).maxCoeff();
   const double error_plain = ((sampled.values - plain).array().abs() / plain.array()).maxCoeff();
-  std::printf("scale function, %d vertices, 128 sources: max relative error %.4f (area-weighted "
-              "sum), %.4f (plain sum)\n",
-              static_cast<int>(m.V.rows()), error, error_plain);
+  std::printf(
+      "scale function, %d vertices, 128 sources: max relative error %.4f (area-weighted "
+      "sum), %.4f (plain sum)\n",
+      static_cast<int>(m.V.rows()), error, error_plain);
   EXPECT_LT(error, 0.02);
   EXPECT_LT(error_plain, 0.02);
   // The weights are the areas of the sources' cells: they cover the surface.
@@ -95,7 +96,8 @@ TEST(ScaleFunction, EdgeGeodesicsAndDeterminism) {
   // Edges are chords of the unit sphere: a little shorter than arcs, zig-zags a little longer.
   EXPECT_GT(d[south], 0.97 * M_PI);
   EXPECT_LT(d[south], 1.1 * M_PI);
-  const dcg::ScaleFunction a = dcg::compute_scale_function(sphere), b = dcg::compute_scale_function(sphere);
+  const dcg::ScaleFunction a = dcg::compute_scale_function(sphere),
+                           b = dcg::compute_scale_function(sphere);
   EXPECT_EQ(a.values, b.values);
   EXPECT_EQ(a.sources, b.sources);
   dcg::ScaleFunctionOptions bad;
@@ -219,14 +221,16 @@ TEST(Prongs, EndPointsAreDistinctBallsThatSeeThePeaks) {
     seen.push_back(b);
     EXPECT_GE(ends.radii[p], min_radius);
     EXPECT_EQ(ends.centers.row(p), balls.centers.row(b));
-    const Eigen::Vector3d c = ends.centers.row(p).transpose(), peak = pf.prongs.positions.row(p).transpose();
+    const Eigen::Vector3d c = ends.centers.row(p).transpose(),
+                          peak = pf.prongs.positions.row(p).transpose();
     EXPECT_TRUE(pm.query->inside(c));
     // Near the tip (the arm radius is 0.35 of about 9.1 units of diagonal), and it sees the peak.
     EXPECT_LT((c - peak).norm(), 0.35 / 9.1) << "prong " << p;
     EXPECT_GE(pm.query->ray_hit(c, peak - c), (c - peak).norm() * 0.999);
     // No closer ball of the same size class sees the peak unless another prong took it.
     for (Eigen::Index q = 0; q < balls.radii.size(); ++q) {
-      if (balls.radii[q] < min_radius || (balls.centers.row(q).transpose() - peak).norm() >= (c - peak).norm())
+      if (balls.radii[q] < min_radius ||
+          (balls.centers.row(q).transpose() - peak).norm() >= (c - peak).norm())
         continue;
       const Eigen::Vector3d cq = balls.centers.row(q).transpose();
       const bool sees = pm.query->ray_hit(cq, peak - cq) >= (cq - peak).norm() * 0.999;
@@ -238,7 +242,6 @@ TEST(Prongs, EndPointsAreDistinctBallsThatSeeThePeaks) {
 
 // --- the public meshes ---------------------------------------------------------------------------
 
-
 TEST(Prongs, PublicMeshesMatchTheManifest) {
   const std::string dir = test::meshes_dir();
   const std::string manifest = dir + "/MANIFEST.tsv";
@@ -247,11 +250,11 @@ TEST(Prongs, PublicMeshesMatchTheManifest) {
   // (4 of 6); the eight's 2 ends sit on its loops (stage 6 turns them into connection points);
   // the horse's sixth prong (ratio 0.976) is too shallow.
   const std::map<std::string, bool> exact = {
-      {"octopus-low.obj", true}, {"hand.obj", true},          {"spot.obj", false},
-      {"torus.off", true},       {"eight.off", false},        {"cow.off", true},
-      {"armadillo-1k.off", true}, {"knight.off", true},       {"cheetah.off", true},
-      {"elephant-cgal.off", true}, {"homer.obj", true},       {"dino.off", true},
-      {"kitten.off", true},      {"fertility.off", true},     {"horse.ply", false},
+      {"octopus-low.obj", true},   {"hand.obj", true},      {"spot.obj", false},
+      {"torus.off", true},         {"eight.off", false},    {"cow.off", true},
+      {"armadillo-1k.off", true},  {"knight.off", true},    {"cheetah.off", true},
+      {"elephant-cgal.off", true}, {"homer.obj", true},     {"dino.off", true},
+      {"kitten.off", true},        {"fertility.off", true}, {"horse.ply", false},
       {"armadillo.obj", true}};
   std::printf("\n%-20s %-44s %6s  %s\n", "mesh", "expected end points (MANIFEST)", "found",
               "ratios of the strongest peaks");

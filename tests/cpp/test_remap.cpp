@@ -15,7 +15,9 @@ namespace {
 
 namespace test = dcg::test;
 
-double off_core(const Eigen::Vector3d& p) { return std::hypot(std::hypot(p.x(), p.y()) - 1.0, p.z()); }
+double off_core(const Eigen::Vector3d& p) {
+  return std::hypot(std::hypot(p.x(), p.y()) - 1.0, p.z());
+}
 
 struct TorusField {
   dcg::Mesh mesh = test::torus(1.0, 0.3, 96, 48);
@@ -33,7 +35,8 @@ struct AcrossTheHole {
 // n points on the torus's core circle.
 dcg::Points core_circle(int n) {
   dcg::Points pts(n, 3);
-  for (int i = 0; i < n; ++i) pts.row(i) << std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0;
+  for (int i = 0; i < n; ++i)
+    pts.row(i) << std::cos(2 * M_PI * i / n), std::sin(2 * M_PI * i / n), 0;
   return pts;
 }
 
@@ -79,7 +82,8 @@ TEST(Remap, SnakeFollowsTheMiddleOfACurvedTube) {
 TEST(Remap, ALinkThatLeavesTheShapeIsRouted) {
   TorusField t;
   const AcrossTheHole link;
-  const dcg::Remapped r = dcg::remap_links(link.nodes, link.radii, link.links, t.field, core_circle(24));
+  const dcg::Remapped r =
+      dcg::remap_links(link.nodes, link.radii, link.links, t.field, core_circle(24));
   EXPECT_EQ(r.rerouted[0], 1);
   EXPECT_EQ(r.unrouted, 0);
   const dcg::Points& p = r.polylines[0];
@@ -99,7 +103,8 @@ TEST(Remap, ARouteThroughThousandsOfWaypointsFindsItsWay) {
   for (int i = 0; i < 4000; ++i) {
     const double u = 2 * M_PI * i / 4000, v = 2 * M_PI * ((i * 37) % 4000) / 4000.0,
                  rho = 0.2 * ((i * 53) % 100) / 100.0;
-    cloud.row(i) << (1 + rho * std::cos(v)) * std::cos(u), (1 + rho * std::cos(v)) * std::sin(u), rho * std::sin(v);
+    cloud.row(i) << (1 + rho * std::cos(v)) * std::cos(u), (1 + rho * std::cos(v)) * std::sin(u),
+        rho * std::sin(v);
   }
   const dcg::Remapped r = dcg::remap_links(link.nodes, link.radii, link.links, t.field, cloud);
   EXPECT_EQ(r.rerouted[0], 1);
@@ -119,8 +124,8 @@ TEST(Remap, ALinkWithNoRouteTriesTheExtraWaypoints) {
     ++asked;
     return core_circle(24);
   };
-  const dcg::Remapped r = dcg::remap_links(link.nodes, link.radii, link.links, t.field,
-                                           dcg::Points(0, 3), {}, ring);
+  const dcg::Remapped r =
+      dcg::remap_links(link.nodes, link.radii, link.links, t.field, dcg::Points(0, 3), {}, ring);
   EXPECT_EQ(asked, 1);
   EXPECT_EQ(r.unrouted, 0);
   EXPECT_EQ(r.rerouted[0], 1);
@@ -140,7 +145,8 @@ TEST(Remap, NoIterationsKeepsTheStraightLink) {
   const dcg::Points& p = r.polylines[0];
   EXPECT_EQ(p.rows(), 5);  // at least 3 inner points
   for (Eigen::Index i = 0; i < p.rows(); ++i) {
-    const Eigen::RowVector3d expected = nodes.row(0) + (nodes.row(1) - nodes.row(0)) * (double(i) / (p.rows() - 1));
+    const Eigen::RowVector3d expected =
+        nodes.row(0) + (nodes.row(1) - nodes.row(0)) * (double(i) / (p.rows() - 1));
     EXPECT_TRUE(p.row(i).isApprox(expected, 1e-12)) << i;
   }
 }

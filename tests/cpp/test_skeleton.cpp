@@ -56,8 +56,10 @@ void expect_sound(const PipelineRun& r, const std::string& name) {
   EXPECT_EQ(q.polyline_mismatches, 0) << name;
   EXPECT_EQ(r.skeleton.polylines.size(), static_cast<size_t>(q.links)) << name;
   ASSERT_GE(r.skeleton.root, 0) << name;
-  for (Eigen::Index i = 0; i < r.skeleton.radii.size(); ++i) EXPECT_GT(r.skeleton.radii[i], 0) << name;
-  for (const auto& p : r.skeleton.polylines) EXPECT_GE(p.rows(), 5) << name << ": at least 3 inner points";
+  for (Eigen::Index i = 0; i < r.skeleton.radii.size(); ++i)
+    EXPECT_GT(r.skeleton.radii[i], 0) << name;
+  for (const auto& p : r.skeleton.polylines)
+    EXPECT_GE(p.rows(), 5) << name << ": at least 3 inner points";
 }
 
 TEST(Skeleton, TorusHasNoEndAndExactlyOneCycle) {
@@ -156,9 +158,9 @@ TEST(Skeleton, StagesAreExposedAndTimed) {
   EXPECT_EQ(s.method, "dcg");
   std::vector<std::string> names;
   for (const auto& t : s.timings) names.push_back(t.first);
-  for (const char* stage : {"prepare", "voronoi_balls", "domain_balls", "prongs", "end_points",
-                            "force_field", "connection_points", "domain_graph", "remap",
-                            "skeleton", "total"}) {
+  for (const char* stage :
+       {"prepare", "voronoi_balls", "domain_balls", "prongs", "end_points", "force_field",
+        "connection_points", "domain_graph", "remap", "skeleton", "total"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), stage), names.end()) << stage;
   }
   // The interim graph stays reachable as the explicit fallback.
@@ -173,18 +175,18 @@ TEST(Skeleton, EndsAndJointsSurviveRotationScaleAndNoise) {
     const Mesh base = test::star(k);
     const PipelineRun a = run_pipeline(base);
     const Mesh moved = test::with_noise(
-        test::transformed(base, test::random_rotation(rng), 37.0, Eigen::Vector3d(1, 2, 3)), 0.003, rng);
+        test::transformed(base, test::random_rotation(rng), 37.0, Eigen::Vector3d(1, 2, 3)), 0.003,
+        rng);
     dcg::Options o = fast_options();
     o.seed = 3;
     const PipelineRun b = run_pipeline(moved, o);
     EXPECT_EQ(a.quality.ends, b.quality.ends) << "star" << k;
-    EXPECT_EQ(a.quality.joints, b.quality.joints) << "star" << k << ": " << test::describe(a.quality)
-                                                   << " vs " << test::describe(b.quality);
+    EXPECT_EQ(a.quality.joints, b.quality.joints)
+        << "star" << k << ": " << test::describe(a.quality) << " vs " << test::describe(b.quality);
   }
 }
 
 // --- the public meshes ---------------------------------------------------------------------------
-
 
 TEST(SkeletonPublic, ClosedMeshesAreSoundAndMatchTheManifest) {
   const std::string dir = test::meshes_dir();
@@ -193,11 +195,11 @@ TEST(SkeletonPublic, ClosedMeshesAreSoundAndMatchTheManifest) {
   // Rows whose ends are asserted exactly. spot: the prongs of stage 3 find 4 of its 6 (the legs
   // are stubs); horse: its sixth prong (ratio 0.976) is too shallow for tau 0.85.
   const std::map<std::string, bool> exact = {
-      {"octopus-low.obj", true}, {"hand.obj", true},           {"spot.obj", false},
-      {"torus.off", true},       {"eight.off", true},          {"cow.off", true},
-      {"armadillo-1k.off", true}, {"knight.off", true},        {"cheetah.off", true},
-      {"elephant-cgal.off", true}, {"homer.obj", true},        {"dino.off", true},
-      {"kitten.off", true},      {"fertility.off", true},      {"horse.ply", false},
+      {"octopus-low.obj", true},   {"hand.obj", true},      {"spot.obj", false},
+      {"torus.off", true},         {"eight.off", true},     {"cow.off", true},
+      {"armadillo-1k.off", true},  {"knight.off", true},    {"cheetah.off", true},
+      {"elephant-cgal.off", true}, {"homer.obj", true},     {"dino.off", true},
+      {"kitten.off", true},        {"fertility.off", true}, {"horse.ply", false},
       {"armadillo.obj", true}};
   // Stability (the list): ends and joints under a random rotation, a scale, 0.3% noise
   // and another remeshing seed: 'e' ends, 'j' joints, asserted on all six with this draw.
@@ -230,17 +232,22 @@ TEST(SkeletonPublic, ClosedMeshesAreSoundAndMatchTheManifest) {
       const std::string& held = stable.at(row.file);
       const double scale = std::pow(10.0, std::uniform_real_distribution<double>(-2, 2)(rng));
       const Mesh moved = test::with_noise(
-          test::transformed(m, test::random_rotation(rng), scale, Eigen::Vector3d(-1, 0.5, 2)), 0.003, rng);
+          test::transformed(m, test::random_rotation(rng), scale, Eigen::Vector3d(-1, 0.5, 2)),
+          0.003, rng);
       dcg::Options o;
       o.seed = 5;
       const PipelineRun p = run_pipeline(moved, o);
       const bool same = p.quality.ends == q.ends && p.quality.joints == q.joints;
-      stability = same ? "yes" : ("no:" + std::to_string(p.quality.ends) + "/" + std::to_string(p.quality.joints));
+      stability =
+          same ? "yes"
+               : ("no:" + std::to_string(p.quality.ends) + "/" + std::to_string(p.quality.joints));
       if (held.find('e') != std::string::npos) {
-        EXPECT_EQ(p.quality.ends, q.ends) << row.file << " perturbed: " << test::describe(p.quality);
+        EXPECT_EQ(p.quality.ends, q.ends)
+            << row.file << " perturbed: " << test::describe(p.quality);
       }
       if (held.find('j') != std::string::npos) {
-        EXPECT_EQ(p.quality.joints, q.joints) << row.file << " perturbed: " << test::describe(p.quality);
+        EXPECT_EQ(p.quality.joints, q.joints)
+            << row.file << " perturbed: " << test::describe(p.quality);
       }
     }
     const bool match = q.ends >= row.low && q.ends <= row.high;
@@ -276,7 +283,8 @@ std::vector<PipelineRun> perturbed_runs(const Mesh& m, int draws = 3) {
   for (int draw = 0; draw < draws; ++draw) {
     const double scale = std::pow(10.0, std::uniform_real_distribution<double>(-2, 2)(rng));
     const Mesh moved = test::with_noise(
-        test::transformed(m, test::random_rotation(rng), scale, Eigen::Vector3d(2, -1, 0.5)), 0.003, rng);
+        test::transformed(m, test::random_rotation(rng), scale, Eigen::Vector3d(2, -1, 0.5)), 0.003,
+        rng);
     dcg::Options o;
     o.seed = 10 + draw;
     runs.push_back(run_pipeline(moved, o));
@@ -314,7 +322,8 @@ TEST(SkeletonPublic, KittenKeepsItsLoopWhenPerturbed) {
   const std::vector<PipelineRun> runs = sound_perturbed_public_runs("kitten.off");
   if (runs.empty()) GTEST_SKIP() << "kitten.off not found (set DCG_MESHES)";
   for (std::size_t draw = 0; draw < runs.size(); ++draw) {
-    EXPECT_EQ(runs[draw].quality.cycles, 1) << "draw " << draw << ": " << test::describe(runs[draw].quality);
+    EXPECT_EQ(runs[draw].quality.cycles, 1)
+        << "draw " << draw << ": " << test::describe(runs[draw].quality);
   }
 }
 

@@ -15,8 +15,8 @@
 
 #include "dcg/errors.h"
 #include "dcg/io.h"
-#include "dcg/prepare.h"
 #include "dcg/options.h"
+#include "dcg/prepare.h"
 #include "dcg/weights.h"
 #include "shapes.h"
 
@@ -100,7 +100,9 @@ void expect_valid(const dcg::SkinWeights& w, int vertex_count, int bone_count, i
     ASSERT_GE(w.cols[e], 0);
     ASSERT_LT(w.cols[e], bone_count);
     ASSERT_GT(w.values[e], 0.0);
-    if (e > 0) { ASSERT_LE(w.rows[e - 1], w.rows[e]); }
+    if (e > 0) {
+      ASSERT_LE(w.rows[e - 1], w.rows[e]);
+    }
     ++count[w.rows[e]];
     sum[w.rows[e]] += w.values[e];
   }
@@ -140,7 +142,8 @@ TEST(WeightsVisibility, EachSphereSeesOnlyTheBoneInsideIt) {
   const Mesh m = merged(a, b);
   // Bone 0 along a's far side, bone 1 near the facing side of b: the facing side of a is
   // nearer to bone 1 (0.3 away from b's surface, 0.5 from a's) than to bone 0 (1.9 away).
-  const Bones bones = bones_from({{{-0.9, 0, -0.1}, {-0.9, 0, 0.1}}, {{1.5, 0, -0.1}, {1.5, 0, 0.1}}});
+  const Bones bones =
+      bones_from({{{-0.9, 0, -0.1}, {-0.9, 0, 0.1}}, {{1.5, 0, -0.1}, {1.5, 0, 0.1}}});
   dcg::BoneHeat heat(m);
   Eigen::VectorXi nearest;
   Eigen::VectorXd distance;
@@ -187,7 +190,9 @@ TEST(WeightsVisibility, AClosedPartAroundNoBoneIsStillWeighted) {
   EXPECT_EQ(report.unseen_vertices, b.V.rows());
   for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
     EXPECT_NEAR(W.row(v).sum(), 1.0, 1e-6) << "vertex " << v;
-    if (v >= a.V.rows()) { EXPECT_NEAR(W(v, 1), 1.0, 1e-6) << "vertex " << v; }
+    if (v >= a.V.rows()) {
+      EXPECT_NEAR(W(v, 1), 1.0, 1e-6) << "vertex " << v;
+    }
   }
 }
 
@@ -227,9 +232,15 @@ TEST(WeightsHeat, CapsuleChainIsMonotonicAcrossTheJoint) {
   EXPECT_LT(profile.front().second, 0.01);
   EXPECT_GT(profile.back().second, 0.99);
   for (const auto& [z, mean] : profile) {
-    if (std::abs(z) < 1e-9) { EXPECT_NEAR(mean, 0.5, 0.05); }
-    if (z < -0.05) { EXPECT_LT(mean, 0.5); }
-    if (z > 0.05) { EXPECT_GT(mean, 0.5); }
+    if (std::abs(z) < 1e-9) {
+      EXPECT_NEAR(mean, 0.5, 0.05);
+    }
+    if (z < -0.05) {
+      EXPECT_LT(mean, 0.5);
+    }
+    if (z > 0.05) {
+      EXPECT_GT(mean, 0.5);
+    }
   }
   // Smooth fall-off: the blend spans some of the cylinder, not one ring.
   int blended = 0;
@@ -284,14 +295,17 @@ TEST(WeightsHeat, MaxInfluencesPrunesAndRenormalizes) {
     o.weights.max_influences = max;
     const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, four, o);
     expect_valid(w, static_cast<int>(m.V.rows()), 4, max);
-    if (max == 1) { EXPECT_EQ(w.rows.size(), m.V.rows()); }
+    if (max == 1) {
+      EXPECT_EQ(w.rows.size(), m.V.rows());
+    }
   }
 }
 
 TEST(WeightsHeat, SameWeightsAtEveryScale) {
   const Mesh m = capsule(0.5, 2.0);
   const Bones bones = chain();
-  const Eigen::MatrixXd reference = dcg::compute_skin_weights(m.V, m.F, bones, keep_input()).dense();
+  const Eigen::MatrixXd reference =
+      dcg::compute_skin_weights(m.V, m.F, bones, keep_input()).dense();
   for (double scale : {0.01, 100.0}) {
     const Eigen::RowVector3d shift(3, -2, 7);
     Mesh s = m;
@@ -317,10 +331,18 @@ TEST(WeightsHeat, RemeshedWorkingMeshTransfersToTheInput) {
   EXPECT_GT(w.working_vertices, m.V.rows());
   const Eigen::MatrixXd W = w.dense();
   for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
-    if (m.V(v, 2) > 1.0) { EXPECT_GT(W(v, 1), 0.9) << "vertex " << v; }
-    if (m.V(v, 2) < -1.0) { EXPECT_GT(W(v, 0), 0.9) << "vertex " << v; }
-    if (m.V(v, 2) > 0.1) { EXPECT_GT(W(v, 1), 0.5) << "vertex " << v; }
-    if (m.V(v, 2) < -0.1) { EXPECT_GT(W(v, 0), 0.5) << "vertex " << v; }
+    if (m.V(v, 2) > 1.0) {
+      EXPECT_GT(W(v, 1), 0.9) << "vertex " << v;
+    }
+    if (m.V(v, 2) < -1.0) {
+      EXPECT_GT(W(v, 0), 0.9) << "vertex " << v;
+    }
+    if (m.V(v, 2) > 0.1) {
+      EXPECT_GT(W(v, 1), 0.5) << "vertex " << v;
+    }
+    if (m.V(v, 2) < -0.1) {
+      EXPECT_GT(W(v, 0), 0.5) << "vertex " << v;
+    }
   }
 }
 
@@ -329,7 +351,8 @@ TEST(WeightsHeat, OpenAndMultiPartInputIsWeightedEverywhere) {
   Mesh open = capsule(0.5, 2.0);
   std::vector<std::array<int, 3>> kept;
   for (Eigen::Index f = 0; f < open.F.rows(); ++f) {
-    const double z = (open.V(open.F(f, 0), 2) + open.V(open.F(f, 1), 2) + open.V(open.F(f, 2), 2)) / 3;
+    const double z =
+        (open.V(open.F(f, 0), 2) + open.V(open.F(f, 1), 2) + open.V(open.F(f, 2), 2)) / 3;
     if (z < 1.2) kept.push_back({open.F(f, 0), open.F(f, 1), open.F(f, 2)});
   }
   open.F.resize(static_cast<Eigen::Index>(kept.size()), 3);
@@ -385,11 +408,10 @@ TEST(WeightsErrors, BadBonesAndOptionsAreInputErrors) {
 TEST(WeightsErrors, ProgressCallbackCancelsAndSeesIncreasingFractions) {
   const Mesh m = capsule(0.5, 2.0);
   std::vector<double> seen;
-  dcg::compute_skin_weights(m.V, m.F, chain(), keep_input(),
-                            [&](const std::string&, double f) {
-                              seen.push_back(f);
-                              return true;
-                            });
+  dcg::compute_skin_weights(m.V, m.F, chain(), keep_input(), [&](const std::string&, double f) {
+    seen.push_back(f);
+    return true;
+  });
   ASSERT_GE(seen.size(), 3u);
   for (std::size_t i = 1; i < seen.size(); ++i) EXPECT_GE(seen[i], seen[i - 1]);
   EXPECT_DOUBLE_EQ(seen.back(), 1.0);

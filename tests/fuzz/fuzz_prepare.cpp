@@ -26,15 +26,24 @@ struct Reader {
 
 double coordinate(std::uint8_t b) {
   switch (b) {
-    case 255: return std::numeric_limits<double>::quiet_NaN();
-    case 254: return std::numeric_limits<double>::infinity();
-    case 253: return -std::numeric_limits<double>::infinity();
-    case 252: return 1e300;
-    case 251: return -1e300;
-    case 250: return 1e-300;
-    case 249: return 1e6;
-    case 248: return 1e-6;
-    default: return (static_cast<int>(b % 81) - 40) / 10.0;
+    case 255:
+      return std::numeric_limits<double>::quiet_NaN();
+    case 254:
+      return std::numeric_limits<double>::infinity();
+    case 253:
+      return -std::numeric_limits<double>::infinity();
+    case 252:
+      return 1e300;
+    case 251:
+      return -1e300;
+    case 250:
+      return 1e-300;
+    case 249:
+      return 1e6;
+    case 248:
+      return 1e-6;
+    default:
+      return (static_cast<int>(b % 81) - 40) / 10.0;
   }
 }
 

@@ -17,8 +17,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
   static const char* const kExtensions[] = {".obj", ".off", ".ply", ".stl"};
-  const std::string path = "/tmp/dcg-fuzz-read-" + std::to_string(getpid()) +
-                           kExtensions[data[0] % 4];
+  const std::string path =
+      "/tmp/dcg-fuzz-read-" + std::to_string(getpid()) + kExtensions[data[0] % 4];
   {
     std::FILE* file = std::fopen(path.c_str(), "wb");
     if (!file) return 0;

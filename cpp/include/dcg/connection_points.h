@@ -41,17 +41,17 @@ struct ConnectionPointsOptions {
 
 struct ConnectionPoints {
   // Per domain point (#D), in the order given.
-  Points shrunk;                      ///< #D by 3 positions after shrinking
-  Eigen::VectorXd shrunk_magnitude;   ///< #D |F| there
-  Eigen::VectorXd shrunk_radii;       ///< #D distance to the surface there
-  Eigen::VectorXi steps;              ///< #D accepted steps
-  std::vector<char> converged;        ///< #D stopped at a local minimum (else: step limit)
-  Eigen::VectorXi cluster;            ///< #D index of the connection point that absorbed it
+  Points shrunk;                     ///< #D by 3 positions after shrinking
+  Eigen::VectorXd shrunk_magnitude;  ///< #D |F| there
+  Eigen::VectorXd shrunk_radii;      ///< #D distance to the surface there
+  Eigen::VectorXi steps;             ///< #D accepted steps
+  std::vector<char> converged;       ///< #D stopped at a local minimum (else: step limit)
+  Eigen::VectorXi cluster;           ///< #D index of the connection point that absorbed it
   // The connection points (#C), by increasing |F|.
-  Points positions;                   ///< #C by 3
-  Eigen::VectorXd radii;              ///< #C distance to the surface
-  Eigen::VectorXd magnitude;          ///< #C |F|
-  Eigen::VectorXi source;             ///< #C the domain point each one is
+  Points positions;           ///< #C by 3
+  Eigen::VectorXd radii;      ///< #C distance to the surface
+  Eigen::VectorXd magnitude;  ///< #C |F|
+  Eigen::VectorXi source;     ///< #C the domain point each one is
 };
 
 /// domain_points: #D by 3 domain points (stage 2 centers; end points excluded), inside the closed

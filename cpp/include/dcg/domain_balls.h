@@ -16,8 +16,8 @@ struct DomainBallsOptions {
 };
 
 struct DomainBalls {
-  Balls balls;               ///< the accepted balls, largest first; centers = domain points
-  std::vector<int> source;   ///< for each accepted ball, its index among the candidates
+  Balls balls;              ///< the accepted balls, largest first; centers = domain points
+  std::vector<int> source;  ///< for each accepted ball, its index among the candidates
 };
 
 /// Accepts candidates largest first when they intersect no accepted ball (spatial grid, never

@@ -86,22 +86,22 @@ struct DomainGraphOptions {
 
 struct DomainGraph {
   // --- the points (#P): connection points, then end points ---------------------------------
-  Points points;                  ///< #P by 3 (plus the two spine points of a sphere, if any)
-  Eigen::VectorXd radii;          ///< #P distance to the surface
-  Eigen::VectorXi prong;          ///< #P prong index of an end point, -1 for connection points
+  Points points;          ///< #P by 3 (plus the two spine points of a sphere, if any)
+  Eigen::VectorXd radii;  ///< #P distance to the surface
+  Eigen::VectorXi prong;  ///< #P prong index of an end point, -1 for connection points
   // --- domain surfaces -------------------------------------------------------------------
-  Eigen::VectorXi face_labels;    ///< #F point owning each face of the working mesh
-  Eigen::VectorXi primitive_face; ///< #P the point's primitive visible face, -1 when it lost it
-  Eigen::VectorXi visible_owner;  ///< #F nearest point that sees the face, -1 when none does
-  int faces_seeded = 0;           ///< faces labelled by rule 1
-  int faces_grown = 0;            ///< faces labelled by rule 2 (region growing)
-  int faces_filled = 0;           ///< faces labelled by rule 3 (flood fill)
+  Eigen::VectorXi face_labels;     ///< #F point owning each face of the working mesh
+  Eigen::VectorXi primitive_face;  ///< #P the point's primitive visible face, -1 when it lost it
+  Eigen::VectorXi visible_owner;   ///< #F nearest point that sees the face, -1 when none does
+  int faces_seeded = 0;            ///< faces labelled by rule 1
+  int faces_grown = 0;             ///< faces labelled by rule 2 (region growing)
+  int faces_filled = 0;            ///< faces labelled by rule 3 (flood fill)
   // --- candidate links -------------------------------------------------------------------
-  Edges candidates;               ///< #L point pairs (a < b) whose regions share an edge
-  Eigen::VectorXd costs;          ///< #L mean |F| along the segment (infinity: leaves the shape)
-  Eigen::VectorXi candidate_state;///< #L 0 unused, 1 tree link, 2 kept cycle link
-  int cycles_rejected_visible = 0;   ///< candidates whose cycle points all see each other
-  int cycles_rejected_duplicate = 0; ///< candidates duplicating a kept cycle
+  Edges candidates;                 ///< #L point pairs (a < b) whose regions share an edge
+  Eigen::VectorXd costs;            ///< #L mean |F| along the segment (infinity: leaves the shape)
+  Eigen::VectorXi candidate_state;  ///< #L 0 unused, 1 tree link, 2 kept cycle link
+  int cycles_rejected_visible = 0;  ///< candidates whose cycle points all see each other
+  int cycles_rejected_duplicate = 0;  ///< candidates duplicating a kept cycle
   // --- the kept graph ---------------------------------------------------------------------
   std::vector<int> nodes;         ///< #N the point each node is
   Edges links;                    ///< #K node pairs (indices into nodes)

@@ -33,9 +33,9 @@ struct ForceFieldOptions {
 /// The field at one point.
 struct FieldSample {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  ///< F(p)
-  double magnitude = 0;     ///< |F(p)|
-  double r_min = 0;         ///< shortest ray distance to the surface (>= the true distance)
-  int outside_rays = 0;     ///< rays that hit nothing or the front of a face (0 inside)
+  double magnitude = 0;                             ///< |F(p)|
+  double r_min = 0;      ///< shortest ray distance to the surface (>= the true distance)
+  int outside_rays = 0;  ///< rays that hit nothing or the front of a face (0 inside)
   /// Gradient of |F| at p (filled by ForceField::at_with_gradient only): exact for the sampled
   /// field, each ray's distance differentiated against the plane of the face it hits,
   /// dr_k/dp = -N_k / (u_k . N_k) (|u_k . N_k| clamped at 0.2 for grazing hits).
@@ -45,9 +45,9 @@ struct FieldSample {
 
 /// The field of a point set, row by row.
 struct FieldSamples {
-  Points force;                ///< #P by 3 F(p)
-  Eigen::VectorXd magnitude;   ///< #P |F(p)|
-  Eigen::VectorXd r_min;       ///< #P shortest ray distance
+  Points force;                  ///< #P by 3 F(p)
+  Eigen::VectorXd magnitude;     ///< #P |F(p)|
+  Eigen::VectorXd r_min;         ///< #P shortest ray distance
   Eigen::VectorXi outside_rays;  ///< #P rays that did not leave through the back of a face
 };
 
@@ -66,8 +66,8 @@ class ForceField {
   /// Central-difference gradient of |F| at p along each of `axes` (unit vectors), step h:
   /// (|F|(p + h a) - |F|(p - h a)) / 2h per axis: a check on at_with_gradient's gradient
   /// (tests/cpp/test_force_field.cpp).
-  Eigen::VectorXd magnitude_slopes(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& axes,
-                                   double h) const;
+  Eigen::VectorXd magnitude_slopes(const Eigen::Vector3d& p,
+                                   const std::vector<Eigen::Vector3d>& axes, double h) const;
   /// Mean |F| over `samples` points evenly spaced strictly inside the segment a-b (the link cost
   /// of stage 6), and whether every such point is inside (outside_rays == 0).
   double mean_magnitude(const Eigen::Vector3d& a, const Eigen::Vector3d& b, int samples,

@@ -47,7 +47,7 @@ struct OptionSpec {
   std::string description;
   std::string stage;  ///< "prepare", "voronoi_balls", ..., "weights"; "all" for seed
   Kind kind = Kind::Float;
-  double minimum = 0;                ///< numbers: the valid range, bounds included
+  double minimum = 0;  ///< numbers: the valid range, bounds included
   double maximum = 0;
   std::vector<std::string> choices;  ///< Choice: the valid values
   std::string unit;  ///< "" or "normalized length" (fraction of the bounding-box diagonal)

@@ -52,17 +52,16 @@ constexpr int kSmallRemeshFaces = 4000;
 struct MeshReport {
   int input_vertices = 0;
   int input_faces = 0;
-  int welded_vertices = 0;           ///< vertices merged into others
-  int dropped_faces = 0;             ///< degenerate (zero-area, repeated index) or duplicate faces
-  int border_edges = 0;              ///< edges with one incident face
-  int border_loops = 0;              ///< connected sets of border edges (holes)
-  int non_manifold_edges = 0;        ///< edges with more than two incident faces
-  int non_manifold_vertices = 0;     ///< vertices whose faces form several fans (pinched)
-  int components = 0;                ///< connected components (over shared edges)
-  bool orientable = true;            ///< faces can be oriented consistently over shared edges
+  int welded_vertices = 0;        ///< vertices merged into others
+  int dropped_faces = 0;          ///< degenerate (zero-area, repeated index) or duplicate faces
+  int border_edges = 0;           ///< edges with one incident face
+  int border_loops = 0;           ///< connected sets of border edges (holes)
+  int non_manifold_edges = 0;     ///< edges with more than two incident faces
+  int non_manifold_vertices = 0;  ///< vertices whose faces form several fans (pinched)
+  int components = 0;             ///< connected components (over shared edges)
+  bool orientable = true;         ///< faces can be oriented consistently over shared edges
   bool closed_manifold() const {
-    return border_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 &&
-           orientable;
+    return border_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 && orientable;
   }
 };
 
@@ -107,8 +106,7 @@ PreparedMesh prepare_mesh(const Vertices& V, const Faces& F, const PrepareOption
 /// `query` is built only when some input vertex is in no face (it maps to its closest point).
 /// Throws InputError (validate_mesh; fewer than 4 faces left), Cancelled.
 PreparedMesh prepare_input(const Vertices& V, const Faces& F, const PrepareOptions& options = {},
-                           const Progress& progress = Progress(), double from = 0,
-                           double to = 0);
+                           const Progress& progress = Progress(), double from = 0, double to = 0);
 
 /// Genus from the Euler characteristic, summed over the connected components of (V, F):
 /// V - E + F = 2 - 2g per closed component.

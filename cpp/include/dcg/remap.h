@@ -12,9 +12,10 @@
 // step: stable for any step), the external term is the gradient of |F| in the plane, scaled by
 // r^(n+2) (r the local radius, n the field's exponent) so that it is a length. The gradient is
 // the sampled field's own (ForceField::at_with_gradient, one fan of rays per point and step):
-// four times cheaper than the central differences of ALGORITHM.md, which it matches (tested). At most `snake_iterations` steps; a link stops when no point moves more than
-// `tolerance` x its radius (at least half the link's mean radius). A move whose segment meets the surface, or that would pull either of the point's polyline
-// segments across it, is refused (the point stays).
+// four times cheaper than the central differences of ALGORITHM.md, which it matches (tested). At
+// most `snake_iterations` steps; a link stops when no point moves more than `tolerance` x its
+// radius (at least half the link's mean radius). A move whose segment meets the surface, or that
+// would pull either of the point's polyline segments across it, is refused (the point stays).
 #pragma once
 
 #include <functional>
@@ -31,15 +32,15 @@ class ForceField;
 class SurfaceQuery;
 
 struct RemapOptions {
-  int snake_iterations = 100;   ///< steps per link at most (ALGORITHM.md: 100)
+  int snake_iterations = 100;      ///< steps per link at most (ALGORITHM.md: 100)
   double curvature_weight = 0.05;  ///< a, weight of the second differences
-  double stretch_weight = 0.005;    ///< b, weight of the first differences
-  double field_weight = 1.0;      ///< c, weight of |F|
-  double time_step = 0.5;         ///< step of the semi-implicit scheme
-  double spacing = 1.0;           ///< inner points about every spacing x local radius
-  int min_inner_points = 3;       ///< inner points per link at least
-  int max_inner_points = 40;      ///< inner points per link at most
-  double tolerance = 0.02;        ///< stop when moves are below this x the local radius
+  double stretch_weight = 0.005;   ///< b, weight of the first differences
+  double field_weight = 1.0;       ///< c, weight of |F|
+  double time_step = 0.5;          ///< step of the semi-implicit scheme
+  double spacing = 1.0;            ///< inner points about every spacing x local radius
+  int min_inner_points = 3;        ///< inner points per link at least
+  int max_inner_points = 40;       ///< inner points per link at most
+  double tolerance = 0.02;         ///< stop when moves are below this x the local radius
 };
 
 struct Remapped {

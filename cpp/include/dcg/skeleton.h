@@ -25,14 +25,14 @@ NodeKind node_kind_of_degree(std::size_t degree);
 
 /// The skeleton in the INPUT's coordinates.
 struct Skeleton {
-  Points positions;                  ///< #N by 3 node positions
-  std::vector<NodeKind> kinds;       ///< #N kinds
-  Eigen::VectorXd radii;             ///< #N distance from each node to the surface
-  Eigen::VectorXd significance;      ///< #N prong ratio s/p for ends (lower = stronger), else 0
-  Edges links;                       ///< #L by 2 node index pairs
-  std::vector<Points> polylines;     ///< #L polylines, each from links(l,0) to links(l,1) inclusive
-  int root = -1;                     ///< the root node (the torso joint), -1 when empty
-  Eigen::VectorXi face_labels;       ///< #F_in node per input face; -1 = not labelled yet
+  Points positions;               ///< #N by 3 node positions
+  std::vector<NodeKind> kinds;    ///< #N kinds
+  Eigen::VectorXd radii;          ///< #N distance from each node to the surface
+  Eigen::VectorXd significance;   ///< #N prong ratio s/p for ends (lower = stronger), else 0
+  Edges links;                    ///< #L by 2 node index pairs
+  std::vector<Points> polylines;  ///< #L polylines, each from links(l,0) to links(l,1) inclusive
+  int root = -1;                  ///< the root node (the torso joint), -1 when empty
+  Eigen::VectorXi face_labels;    ///< #F_in node per input face; -1 = not labelled yet
   /// Seconds per stage in the order they ran, then "total".
   std::vector<std::pair<std::string, double>> timings;
   // What stage 0 said about the mesh.

@@ -79,18 +79,18 @@ struct Bones {
 /// Per-vertex bone weights as sparse triplets, sorted by vertex then by decreasing weight. Every
 /// vertex has between 1 and max_influences entries, positive, summing to 1.
 struct SkinWeights {
-  Eigen::VectorXi rows;     ///< #E vertex index of each entry (input vertices)
-  Eigen::VectorXi cols;     ///< #E bone index of each entry
-  Eigen::VectorXd values;   ///< #E weight of each entry, in (0, 1]
-  int vertex_count = 0;     ///< #V the rows index into
-  int bone_count = 0;       ///< #B the cols index into
+  Eigen::VectorXi rows;    ///< #E vertex index of each entry (input vertices)
+  Eigen::VectorXi cols;    ///< #E bone index of each entry
+  Eigen::VectorXd values;  ///< #E weight of each entry, in (0, 1]
+  int vertex_count = 0;    ///< #V the rows index into
+  int bone_count = 0;      ///< #B the cols index into
   // What happened, as data (ALGORITHM.md: failures are reported, never silent).
-  int working_vertices = 0;       ///< vertices the heat was solved on (the welded input's, or
-                                  ///<    the working mesh's for a large input)
-  int unseen_vertices = 0;        ///< working vertices that saw no bone (weights by diffusion)
-  int blind_components = 0;       ///< working-mesh parts that saw no bone at all (nearest bone used)
-  int fallback_vertices = 0;      ///< input vertices whose interpolated weights were all <= 0
-                                  ///< (given their nearest bone instead; should be 0)
+  int working_vertices = 0;   ///< vertices the heat was solved on (the welded input's, or
+                              ///<    the working mesh's for a large input)
+  int unseen_vertices = 0;    ///< working vertices that saw no bone (weights by diffusion)
+  int blind_components = 0;   ///< working-mesh parts that saw no bone at all (nearest bone used)
+  int fallback_vertices = 0;  ///< input vertices whose interpolated weights were all <= 0
+                              ///< (given their nearest bone instead; should be 0)
   /// Seconds per step ("prepare" when stage 0 ran here, "laplacian", "visibility", "factor",
   /// "solve", "transfer"), then "total".
   std::vector<std::pair<std::string, double>> timings;
