@@ -157,8 +157,12 @@ TEST(PrepareInput, OpenMultiPartAndFlatInputsAreKeptAndMappedOntoTheirCorners) {
     for (int k = 0; k < 3; ++k)
       p += pm.map_barycentric(i, k) * pm.working.V.row(pm.working.F(pm.map_face[i], k));
     const double gap = (pm.to_input(p) - m.V.row(i)).norm();
-    if (used[i]) EXPECT_LT(gap, 1e-9 * pm.scale) << i;
-    if (i + 1 == m.V.rows()) EXPECT_NEAR(gap, 0.2, 0.01);
+    if (used[i]) {
+      EXPECT_LT(gap, 1e-9 * pm.scale) << i;
+    }
+    if (i + 1 == m.V.rows()) {
+      EXPECT_NEAR(gap, 0.2, 0.01);
+    }
   }
   // A flat sheet is fine here (stage 0 proper rejects it: it encloses nothing).
   Mesh flat = test::icosphere(2);
