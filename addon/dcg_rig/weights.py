@@ -38,7 +38,7 @@ def apply_weights(context, mesh_obj, arm_obj, plan, method, prepared=None,
     warnings = []
     names = [spec.name for spec in plan]
     if method == "DCG":
-        warnings += _dcg_weights(mesh_obj, plan, prepared, engine_options or {})
+        warnings += _dcg_weights(mesh_obj, plan, prepared, engine_options)
     elif method == "BLENDER":
         warnings += _bone_heat_checked(context, mesh_obj, arm_obj, plan)
     else:
@@ -72,8 +72,8 @@ def _dcg_weights(mesh_obj, plan, prepared=None, engine_options=None):
         warnings.append("this build of the engine has no weights: used envelope weights")
     else:
         try:
-            options = {"max_influences": skinning.MAX_INFLUENCES, **(engine_options or {})}
-            weights = skin_weights(V, F, plan, prepared=prepared, **options)
+            # The engine's own defaults (dcg.OPTIONS) for whatever engine_options leave out.
+            weights = skin_weights(V, F, plan, prepared=prepared, **(engine_options or {}))
         except ValueError as error:
             warnings.append(f"the engine could not weight {mesh_obj.name} ({error}): used "
                             "envelope weights")

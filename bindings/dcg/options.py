@@ -48,10 +48,8 @@ def _build_table() -> Dict[str, OptionInfo]:
 
 #: name -> OptionInfo, in pipeline order (the skeleton's stages 0-8, then the weights').
 OPTIONS: Dict[str, OptionInfo] = _build_table()
-#: The options of the skeleton (stages 0-8) and of the weights (stage 9 and stage 0's).
+#: The options that make a skeleton (stages 0-8: all but the weights' own).
 SKELETON_OPTIONS = tuple(n for n, info in OPTIONS.items() if info.stage != "weights")
-WEIGHTS_OPTIONS = tuple(n for n, info in OPTIONS.items()
-                        if info.stage in ("weights", "prepare", "all"))
 
 
 def normalize_options(options: Dict[str, Any]) -> Dict[str, Any]:
