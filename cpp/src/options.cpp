@@ -40,8 +40,9 @@ constexpr const char* kLength = "normalized length";
 const std::vector<OptionEntry>& option_table() {
   static const std::vector<OptionEntry> table = {
       {{"repair",
-        "What to do with input that is not one closed manifold: 'auto' wraps it into a closed "
-        "proxy (CGAL alpha wrapping), 'none' raises an error naming the problem",
+        "What to do with input that is not one closed manifold: 'auto' unites its parts when "
+        "each is a closed solid, else wraps it into a closed proxy (CGAL alpha wrapping), "
+        "'none' raises an error naming the problem",
         "prepare",
         Kind::Choice,
         0,

@@ -18,9 +18,14 @@
 //   1e-16 in normalized units, i.e. round-off). Duplicate faces: the same three vertices in any
 //   order (a second, reversed copy of a face is a zero-volume double wall).
 // - "Needs repair" = border edges, non-manifold edges or vertices, a non-orientable surface, or
-//   more than one component. Several closed shells are wrapped too: ALGORITHM.md counts
-//   "several parts" as a problem (an eye ball inside a head, overlapping limbs); the wrap turns
-//   overlapping parts into one surface (their union), and disjoint parts stay separate shells.
+//   more than one component: ALGORITHM.md counts "several parts" as a problem (an eye ball
+//   inside a head, overlapping limbs). When every part is a closed solid (closed, orientable,
+//   not self-intersecting; pinched vertices split into one per fan), the working mesh is the
+//   union of the parts by CGAL's corefinement (union.h): overlapping parts become one surface,
+//   nested ones vanish, disjoint ones stay separate shells, and the surface is the input's own.
+//   It costs 10-60 ms on the multi-part game characters where the wrap below took 2-4 s.
+//   Anything else (an open or self-intersecting part, non-manifold edges, a union that fails)
+//   is wrapped, which gives the same kind of result (the union, disjoint parts as shells).
 // - Wrap size: alpha = 1/100 of the diagonal (keeps fingers and thin limbs apart), raised to
 //   0.6 x the diagonal of the largest hole (border loop) so the wrapping ball cannot enter the
 //   hole and wrap both sides of an open sheet (a hollow shell has a useless medial axis), capped
@@ -44,6 +49,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -63,6 +69,7 @@
 #include "polling.h"
 #include "remesh.h"
 #include "repair.h"
+#include "union.h"
 
 namespace dcg {
 namespace {
@@ -326,8 +333,17 @@ void make_working_mesh(Mesh clean, bool closed, double largest_hole, const Prepa
     throw InputError("the mesh is not a single closed manifold: " + problem_list(out.report) +
                      "; use repair='auto' to wrap it into a closed proxy");
   }
+  const MeshReport& r = out.report;
+  if (r.border_edges == 0 && r.non_manifold_edges == 0 && r.orientable) {
+    // Only several parts or pinched vertices: the union of the parts when each is a closed solid.
+    if (std::optional<Mesh> united = internal::union_of_closed_parts(clean, poll.part(0.1, 0.3))) {
+      out.working = std::move(*united);
+      out.repaired = true;
+      return;
+    }
+  }
   double alpha = std::clamp(0.6 * largest_hole, 0.01, 0.1);
-  if (out.report.border_edges == 0) alpha = 0.01;
+  if (r.border_edges == 0) alpha = 0.01;
   wrap(clean, alpha, poll, out);
 }
 
@@ -393,7 +409,7 @@ void remesh_to_target(const PrepareOptions& options, ThrottledProgress& poll, Pr
   const double nf = static_cast<double>(out.working.F.rows());
   const int target = remesh_target(out.working, options);
   if (target == 0) return;
-  if (!out.repaired) wrap_flat_folds(options, poll, out);
+  if (out.wrap_alpha == 0) wrap_flat_folds(options, poll, out);  // not a wrap (maybe a union)
   const int goal = 4 * std::max(options.target_faces, internal::kMinRemeshFaces);
   if (nf > std::max(2.0 * goal, 150000.0)) {
     out.working = internal::fast_reduce(out.working, goal, poll.part(0.3, 0.5));

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -97,6 +98,46 @@ TEST(Pipeline, SpotGivesAConnectedTreeInsideTheShape) {
                                    : degree[i] >= 3 ? dcg::NodeKind::Joint
                                                     : dcg::NodeKind::Connection;
     EXPECT_EQ(s.kinds[i], expected) << "node " << i << " degree " << degree[i];
+  }
+}
+
+// A star of separate closed parts (a ball with four capsule arms pushed into it, and a small
+// detached "eye" beside it), as game characters come: four ends, one at each arm, and every node
+// and polyline point inside one of the parts (the input's parity says little where parts
+// overlap, so each part is asked on its own).
+TEST(Pipeline, MultiPartStarGetsItsEndsInsideItsParts) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  std::vector<dcg::Mesh> parts = {dcg::test::icosphere(3)};
+  const dcg::Mesh arm = dcg::test::capsule(0.3, 2.0);  // along z
+  Eigen::Matrix3d to_x, to_y;
+  to_x << 0, 0, 1, 0, 1, 0, -1, 0, 0;
+  to_y << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+  parts.push_back(dcg::test::transformed(arm, to_x, 1.0, {1.8, 0, 0}));
+  parts.push_back(dcg::test::transformed(arm, to_x, 1.0, {-1.8, 0, 0}));
+  parts.push_back(dcg::test::transformed(arm, to_y, 1.0, {0, 1.8, 0}));
+  parts.push_back(dcg::test::transformed(arm, to_y, 1.0, {0, -1.8, 0}));
+  parts.push_back(dcg::test::transformed(dcg::test::icosphere(2), I, 0.15, {0.6, 0.6, 1.2}));
+  dcg::Mesh mesh = parts[0];
+  for (size_t i = 1; i < parts.size(); ++i) mesh = dcg::test::merged(mesh, parts[i]);
+  dcg::Options options;
+  options.prepare.target_faces = 8000;
+  const dcg::Skeleton s = dcg::extract_skeleton(mesh.V, mesh.F, options);
+  EXPECT_TRUE(s.repaired);
+  int ends = 0;
+  for (dcg::NodeKind k : s.kinds) ends += k == dcg::NodeKind::End;
+  EXPECT_EQ(ends, 4);
+  std::vector<std::unique_ptr<dcg::SurfaceQuery>> queries;
+  for (const dcg::Mesh& part : parts) queries.push_back(std::make_unique<dcg::SurfaceQuery>(part));
+  const auto in_a_part = [&](const Eigen::Vector3d& p) {
+    return std::any_of(queries.begin(), queries.end(), [&](const auto& q) { return q->inside(p); });
+  };
+  for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
+    EXPECT_TRUE(in_a_part(s.positions.row(i).transpose())) << "node " << i;
+  }
+  for (size_t l = 0; l < s.polylines.size(); ++l) {
+    for (Eigen::Index i = 0; i < s.polylines[l].rows(); ++i) {
+      EXPECT_TRUE(in_a_part(s.polylines[l].row(i).transpose())) << "link " << l << " point " << i;
+    }
   }
 }
 

@@ -386,6 +386,58 @@ TEST(Repair, MultiPartInputRaisesOrIsWrapped) {
   EXPECT_EQ(test::component_count(pm.working), 1);
 }
 
+// Closed parts that overlap, nest and stand apart: their union, not a wrap. Each part is a
+// closed solid, so stage 0 unites them (the overlapping pair into one shell, the nested sphere
+// swallowed by the one around it, the far one kept as its own shell) and keeps their surface.
+TEST(Repair, ClosedPartsAreUnitedNotWrapped) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Mesh big = test::icosphere(3);
+  Mesh parts = test::merged(big, test::transformed(test::icosphere(3), I, 0.8, {1.3, 0, 0}));
+  parts = test::merged(parts, test::transformed(test::icosphere(2), I, 0.3, {-0.2, 0, 0}));
+  parts = test::merged(parts, test::transformed(test::icosphere(2), I, 0.25, {0, 3, 0}));
+  dcg::PrepareOptions o;
+  o.target_faces = 0;
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, o);
+  EXPECT_EQ(pm.report.components, 4);
+  EXPECT_TRUE(pm.repaired);
+  EXPECT_EQ(pm.wrap_alpha, 0) << "united, not wrapped";
+  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+  EXPECT_EQ(test::component_count(pm.working), 2);
+  // The surface is the input's own: every working vertex lies on one of the outer spheres (no
+  // offset), none on the nested one or inside the overlap.
+  const Eigen::RowVector3d c0 = (Eigen::RowVector3d(0, 0, 0) - pm.offset) / pm.scale,
+                           c1 = (Eigen::RowVector3d(1.3, 0, 0) - pm.offset) / pm.scale,
+                           c3 = (Eigen::RowVector3d(0, 3, 0) - pm.offset) / pm.scale;
+  const double r0 = 1 / pm.scale, r1 = 0.8 / pm.scale, r3 = 0.25 / pm.scale;
+  for (Eigen::Index v = 0; v < pm.working.V.rows(); ++v) {
+    const Eigen::RowVector3d p = pm.working.V.row(v);
+    const double d0 = (p - c0).norm() - r0, d1 = (p - c1).norm() - r1, d3 = (p - c3).norm() - r3;
+    const double tol = 0.02 * r0;  // the icospheres' facets lie inside their spheres
+    const bool on_union = (std::abs(d0) < tol && d1 > -tol) || (std::abs(d1) < tol && d0 > -tol);
+    EXPECT_TRUE(on_union || std::abs(d3) < tol) << "vertex " << v;
+  }
+  EXPECT_TRUE(
+      pm.query->inside(((Eigen::RowVector3d(0.9, 0, 0) - pm.offset) / pm.scale).transpose()))
+      << "the overlap is inside the union";
+  EXPECT_TRUE(
+      pm.query->inside(((Eigen::RowVector3d(-0.2, 0, 0) - pm.offset) / pm.scale).transpose()))
+      << "the nested sphere's centre is inside the union";
+}
+
+// A part that is open is no closed solid: the whole mesh is wrapped as before.
+TEST(Repair, AnOpenPartSendsTheWholeMeshToTheWrap) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Mesh parts = test::merged(
+      test::icosphere(3),
+      test::transformed(test::cut_above(test::icosphere(3), 0.9), I, 0.5, {1.2, 0, 0}));
+  dcg::PrepareOptions o;
+  o.target_faces = 4000;
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, o);
+  EXPECT_TRUE(pm.repaired);
+  EXPECT_GT(pm.wrap_alpha, 0);
+  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+}
+
 // The public open meshes of ../shared/meshes (DCG_MESHES).
 class OpenMeshFile : public ::testing::TestWithParam<std::string> {};
 

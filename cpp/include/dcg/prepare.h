@@ -15,7 +15,7 @@ namespace dcg {
 class SurfaceQuery;
 
 enum class Repair {
-  Auto,  ///< not a closed manifold -> build a closed manifold proxy with CGAL alpha_wrap_3
+  Auto,  ///< not a closed manifold -> closed parts united, else a proxy by CGAL alpha_wrap_3
   None,  ///< not a closed manifold -> InputError naming the problem
 };
 
@@ -71,8 +71,10 @@ struct PreparedMesh {
   double scale = 1.0;
   Eigen::RowVector3d offset = Eigen::RowVector3d::Zero();
   MeshReport report;
-  bool repaired = false;  ///< the working mesh is an alpha-wrap proxy of the input
-  double wrap_alpha = 0;  ///< alpha of the wrap when repaired (normalized units), else 0
+  /// The working mesh is a repaired proxy of the input: the union of its closed parts
+  /// (wrap_alpha 0) or its alpha wrap.
+  bool repaired = false;
+  double wrap_alpha = 0;  ///< alpha of the wrap when wrapped (normalized units), else 0
   bool remeshed = false;  ///< the working mesh was remeshed (false: the input was kept)
   int genus = 0;          ///< total genus of the working mesh, from its Euler characteristic
   /// Map from each input vertex to the working mesh: #V_in face indices into working.F and
