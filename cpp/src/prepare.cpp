@@ -20,12 +20,13 @@
 // - "Needs repair" = border edges, non-manifold edges or vertices, a non-orientable surface, or
 //   more than one component: ALGORITHM.md counts "several parts" as a problem (an eye ball
 //   inside a head, overlapping limbs). When every part is a closed solid (closed, orientable,
-//   not self-intersecting; pinched vertices split into one per fan), the working mesh is the
+//   enclosing a volume; pinched vertices split into one copy per fan), the working mesh is the
 //   union of the parts by CGAL's corefinement (union.h): overlapping parts become one surface,
 //   nested ones vanish, disjoint ones stay separate shells, and the surface is the input's own.
-//   It costs 10-60 ms on the multi-part game characters where the wrap below took 2-4 s.
-//   Anything else (an open or self-intersecting part, non-manifold edges, a union that fails)
-//   is wrapped, which gives the same kind of result (the union, disjoint parts as shells).
+//   It costs 10-90 ms on the multi-part game characters and pinched meshes where the wrap below
+//   took 2-4 s. A pinched mesh of one part is only split. Anything else (an open part, one to be
+//   united that crosses itself, non-manifold edges, a union that fails) is wrapped, which gives
+//   the same kind of result (the union, disjoint parts as shells).
 // - Wrap size: alpha = 1/100 of the diagonal (keeps fingers and thin limbs apart), raised to
 //   0.6 x the diagonal of the largest hole (border loop) so the wrapping ball cannot enter the
 //   hole and wrap both sides of an open sheet (a hollow shell has a useless medial axis), capped

@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <array>
 #include <exception>
+#include <iterator>
+#include <utility>
 #include <vector>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -18,11 +20,11 @@
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/centroid.h>
 
 #include "dcg/errors.h"
 #include "surface_mesh_convert.h"
@@ -36,13 +38,82 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = K::Point_3;
 using SM = CGAL::Surface_mesh<Point>;
 
-// A part fit for corefinement: closed, not self-intersecting, enclosing a volume; turned
-// outward in place.
+// Whether triangles s and t cross each other (more than touch at a point they share: the copies
+// of a split pinched vertex): each shrunk by 1e-7 about its centroid still intersects the other.
+bool cross(const K::Triangle_3& s, const K::Triangle_3& t) {
+  const auto shrunk = [](const K::Triangle_3& u) {
+    const Point c = CGAL::centroid(u);
+    const auto in = [&](const Point& p) { return p + (c - p) * 1e-7; };
+    return K::Triangle_3(in(u[0]), in(u[1]), in(u[2]));
+  };
+  return CGAL::do_intersect(shrunk(s), t) || CGAL::do_intersect(s, shrunk(t));
+}
+
+// Whether `sm` intersects itself other than where copies of one point touch.
+bool crosses_itself(const SM& sm) {
+  std::vector<std::pair<SM::Face_index, SM::Face_index>> pairs;
+  PMP::self_intersections(faces(sm), sm, std::back_inserter(pairs));
+  const auto triangle = [&](SM::Face_index f) {
+    const SM::Halfedge_index h = sm.halfedge(f);
+    return K::Triangle_3(sm.point(sm.source(h)), sm.point(sm.target(h)),
+                         sm.point(sm.target(sm.next(h))));
+  };
+  for (const auto& [f, g] : pairs) {
+    const K::Triangle_3 s = triangle(f), t = triangle(g);
+    bool share = false;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) share = share || s[i] == t[j];
+    if (!share || cross(s, t)) return true;
+  }
+  return false;
+}
+
+// Whether `part` is closed and encloses a volume; turned outward in place. (Whether it crosses
+// itself matters only when it is to be united with another part: a closed part on its own is
+// kept as it is, like a closed input that crosses itself a little, cow.off.)
 bool closed_solid(SM& part) {
   if (!CGAL::is_closed(part) || !CGAL::is_triangle_mesh(part)) return false;
-  if (PMP::does_self_intersect(part)) return false;
   if (!PMP::is_outward_oriented(part)) PMP::reverse_face_orientations(part);
   return PMP::volume(part) > 0;
+}
+
+// The faces of `mesh` as a soup in which each pinched vertex (several fans of faces around it)
+// has one copy per fan: every edge must have two faces (no border, no non-manifold edge).
+void split_pinched_vertices(const Mesh& mesh, std::vector<Point>& points,
+                            std::vector<std::array<std::size_t, 3>>& faces) {
+  const int nv = static_cast<int>(mesh.V.rows()), nf = static_cast<int>(mesh.F.rows());
+  points.clear();
+  for (int i = 0; i < nv; ++i) points.emplace_back(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2));
+  // Corners c = 3 f + k around each vertex; two corners at one vertex are in one fan when their
+  // faces share an edge there (the vertex after it in one face is the one before it in the other,
+  // as the faces are oriented).
+  std::vector<std::vector<int>> corners(nv);
+  for (int c = 0; c < 3 * nf; ++c) corners[mesh.F(c / 3, c % 3)].push_back(c);
+  faces.resize(nf);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) faces[f][k] = static_cast<std::size_t>(mesh.F(f, k));
+  for (int v = 0; v < nv; ++v) {
+    const std::vector<int>& around = corners[v];
+    UnionFind fans(static_cast<int>(around.size()));
+    for (std::size_t a = 0; a < around.size(); ++a)
+      for (std::size_t b = 0; b < around.size(); ++b) {
+        const int fa = around[a] / 3, ka = around[a] % 3, fb = around[b] / 3, kb = around[b] % 3;
+        if (mesh.F(fa, (ka + 1) % 3) == mesh.F(fb, (kb + 2) % 3)) {
+          fans.unite(static_cast<int>(a), static_cast<int>(b));
+        }
+      }
+    std::vector<std::size_t> copy(around.size(), 0);
+    const int first = fans.find(0);
+    for (std::size_t a = 0; a < around.size(); ++a) {
+      const int root = fans.find(static_cast<int>(a));
+      if (root == first) continue;
+      if (copy[root] == 0) {
+        copy[root] = points.size();
+        points.push_back(points[v]);
+      }
+      faces[around[a] / 3][around[a] % 3] = copy[root];
+    }
+  }
 }
 
 // Groups of parts whose bounding boxes overlap (transitively): only these can intersect.
@@ -70,19 +141,8 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
                                           const std::function<void(double)>& poll_in) {
   const std::function<void(double)> poll = poll_in ? poll_in : [](double) {};
   std::vector<Point> points;
-  points.reserve(mesh.V.rows());
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
-    points.emplace_back(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2));
-  }
   std::vector<std::array<std::size_t, 3>> faces;
-  faces.reserve(mesh.F.rows());
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    faces.push_back({static_cast<std::size_t>(mesh.F(f, 0)), static_cast<std::size_t>(mesh.F(f, 1)),
-                     static_cast<std::size_t>(mesh.F(f, 2))});
-  }
-  // Orienting the soup splits pinched vertices (and non-manifold edges, whose parts then come
-  // out open and are refused below) into one vertex per fan.
-  PMP::orient_polygon_soup(points, faces);
+  split_pinched_vertices(mesh, points, faces);
   if (!PMP::is_polygon_soup_a_polygon_mesh(faces)) return std::nullopt;
   SM whole;
   PMP::polygon_soup_to_polygon_mesh(points, faces, whole);
@@ -100,13 +160,18 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
   try {
     for (const auto& group : groups) {
       SM united = parts[group[0]];
+      if (group.size() > 1) {
+        // Corefinement needs parts that do not cross themselves.
+        for (std::size_t i : group)
+          if (crosses_itself(parts[i])) return std::nullopt;
+      }
       for (std::size_t k = 1; k < group.size(); ++k) {
         poll(0.3 + 0.6 * static_cast<double>(done++) / static_cast<double>(parts.size()));
         SM result;
         if (!PMP::corefine_and_compute_union(united, parts[group[k]], result)) return std::nullopt;
         united = std::move(result);
       }
-      if (group.size() > 1 && (!CGAL::is_closed(united) || PMP::does_self_intersect(united))) {
+      if (group.size() > 1 && (!CGAL::is_closed(united) || crosses_itself(united))) {
         return std::nullopt;
       }
       shells.push_back(mesh_from_surface_mesh(united, "the union of the parts"));

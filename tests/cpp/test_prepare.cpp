@@ -424,6 +424,31 @@ TEST(Repair, ClosedPartsAreUnitedNotWrapped) {
       << "the nested sphere's centre is inside the union";
 }
 
+// Two spheres that share one vertex (a pinched, non-manifold vertex): the vertex is split into
+// one copy per fan, and the two spheres stay as they are (touching at that point), not wrapped.
+TEST(Repair, PinchedVertexIsSplitNotWrapped) {
+  const Mesh a = test::icosphere(3);
+  Eigen::Index top = 0;
+  a.V.col(0).maxCoeff(&top);
+  Mesh b = test::transformed(a, -Eigen::Matrix3d::Identity(), 1.0, 2 * a.V.row(top).transpose());
+  Mesh pinched = test::merged(a, b);
+  const int nv = static_cast<int>(a.V.rows());
+  for (Eigen::Index f = 0; f < pinched.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (pinched.F(f, k) == nv + top) pinched.F(f, k) = static_cast<int>(top);
+  dcg::PrepareOptions o;
+  o.target_faces = 0;
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(pinched.V, pinched.F, o);
+  EXPECT_EQ(pm.report.non_manifold_vertices, 1);
+  EXPECT_EQ(pm.report.components, 2) << "components are counted over shared edges";
+  EXPECT_TRUE(pm.repaired);
+  EXPECT_EQ(pm.wrap_alpha, 0) << "split, not wrapped";
+  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+  EXPECT_EQ(test::component_count(pm.working), 2);
+  EXPECT_EQ(pm.working.F.rows(), pinched.F.rows()) << "the input's own faces";
+  EXPECT_EQ(pm.working.V.rows(), 2 * nv) << "the pinched vertex in two copies";
+}
+
 // A part that is open is no closed solid: the whole mesh is wrapped as before.
 TEST(Repair, AnOpenPartSendsTheWholeMeshToTheWrap) {
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
