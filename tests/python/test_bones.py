@@ -111,13 +111,6 @@ def test_zero_length_segments_are_merged_away():
     assert len(plan) == 2 and np.allclose(plan[0].tail, plan[1].head)
 
 
-def test_simplify_polyline_keeps_ends_and_the_farthest_point():
-    points = np.array([[0, 0, 0], [1, 0.01, 0], [2, 1, 0], [3, 0, 0], [4, 0, 0]], float)
-    assert bones.simplify_polyline(points, 0.0) == [0, 4]
-    assert bones.simplify_polyline(points, 1.0) == [0, 1, 2, 3, 4]
-    assert bones.simplify_polyline(points, 0.34) == [0, 2, 4]
-
-
 def test_bone_arrays_index_the_parents_in_plan_order():
     plan = bones.plan_bones(y_shape(), bone_detail=1.0)
     arrays = bones.bone_arrays(plan)
