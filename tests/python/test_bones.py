@@ -125,3 +125,79 @@ def test_bone_arrays_index_the_parents_in_plan_order():
         assert arrays["kinds"][b] == spec.kind and arrays["links"][b] == spec.link
     empty = bones.bone_arrays([])
     assert empty["heads"].shape == (0, 3) and empty["parents"].dtype == np.int64
+
+
+# --- joints at articulations --------------------------------------------------------------------
+
+def bent_tube(bend_at=3, count=10):
+    """One link, an L of `count` evenly spaced points bent at point `bend_at`, even radii."""
+    points = [[0, 0, float(i)] for i in range(bend_at + 1)]
+    points += [[float(i), 0, float(bend_at)] for i in range(1, count - bend_at)]
+    return skeleton_of([points[0], points[-1]], ["joint", "end"], [[0, 1]], [points],
+                       radii=[0.2, 0.2])
+
+
+def straight_chain(radii):
+    """A straight limb of len(radii) - 1 links (5 points each) through connection nodes."""
+    count = len(radii)
+    positions = [[0, 0, float(i)] for i in range(count)]
+    kinds = ["joint"] + ["connection"] * (count - 2) + ["end"]
+    links = [[i, i + 1] for i in range(count - 1)]
+    polylines = [[[0, 0, i + t] for t in np.linspace(0, 1, 5)] for i in range(count - 1)]
+    return skeleton_of(positions, kinds, links, polylines, radii=radii)
+
+
+def test_a_bent_tube_gets_its_joint_at_the_bend():
+    for bend_at in (2, 3, 6):
+        skeleton = bent_tube(bend_at)
+        points = skeleton.polylines[0]
+        assert bones.articulations(points, np.full(len(points), 0.2), 2) == [0, bend_at, 9]
+        plan = bones.plan_bones(skeleton, bone_detail=0.4)  # round(0.4 x 5 x 1) = 2 bones
+        assert len(plan) == 2
+        assert np.allclose(plan[0].tail, points[bend_at]) and plan[0].kind == "connection"
+        assert plan[1].kind == "end" and plan[1].node == 1
+
+
+def test_two_bends_are_both_found_exactly():
+    points = np.array([[0, 0, 0], [0, 0, 1], [1, 0, 1], [2, 0, 1], [3, 0, 1], [4, 0, 1],
+                       [4, 0, 2], [4, 0, 3]], float)
+    assert bones.articulations(points, np.full(len(points), 0.1), 3) == [0, 1, 5, 7]
+
+
+def test_a_straight_limb_gets_its_joint_where_it_narrows():
+    for thin in (1, 2, 3):
+        radii = [0.3] * 5
+        radii[thin] = 0.1
+        skeleton = straight_chain(radii)
+        plan = bones.plan_bones(skeleton, bone_detail=0.1)  # round(0.1 x 5 x 4 links) = 2
+        assert len(plan) == 2
+        assert plan[0].node == thin and plan[0].kind == "connection"
+        assert np.allclose(plan[0].tail, skeleton.positions[thin])
+        assert plan[0].tail_radius == pytest.approx(0.1)
+    # Without a narrowing a straight limb has nothing to prefer but fit: any split is exact.
+    plan = bones.plan_bones(straight_chain([0.3] * 5), bone_detail=0.1)
+    assert len(plan) == 2 and np.allclose(plan[1].tail, [0, 0, 4])
+
+
+def test_a_limb_runs_through_connection_nodes_and_stops_at_branches():
+    skeleton = straight_chain([0.3, 0.3, 0.2, 0.3, 0.1])
+    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    assert len(plan) == 1  # one limb of four links, one bone
+    assert np.allclose(plan[0].head, [0, 0, 0]) and np.allclose(plan[0].tail, [0, 0, 4])
+    assert (plan[0].kind, plan[0].node, plan[0].link) == ("end", 4, 3)
+    # y_shape's root joint branches three ways: three limbs, three bones at detail 0.
+    assert len(bones.plan_bones(y_shape(), bone_detail=0.0)) == 3
+    assert [len(limb) for limb in bones.limbs(skeleton)] == [4]
+
+
+def test_the_bone_count_follows_bone_detail():
+    skeleton = straight_chain([0.3, 0.25, 0.2, 0.3, 0.25, 0.2, 0.1])  # 6 links, 24 segments
+    counts = [len(bones.plan_bones(skeleton, bone_detail=d)) for d in np.linspace(0, 1, 11)]
+    assert counts == sorted(counts)  # never fewer bones for more detail
+    assert counts[0] == 1 and counts[-1] == 24 and counts[5] == 15  # 0.5: 2.5 per link
+    assert bones.bone_count(6, 24, 0.5) == 15 and bones.bone_count(6, 24, 2.0) == 24
+    assert bones.bone_count(6, 24, -1.0) == 1
+    plan = bones.plan_bones(skeleton, bone_detail=0.5)
+    for spec, child in zip(plan[:-1], plan[1:]):  # one connected chain, parents first
+        assert child.parent == spec.name and child.use_connect
+        assert np.allclose(child.head, spec.tail)
