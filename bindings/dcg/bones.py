@@ -14,7 +14,9 @@ skeleton's root: the chain of a limb starts at the node nearer the root and its 
 is the child of the bone that arrived at that node. A link that closes a cycle (genus > 0)
 is a limb of its own whose first bone is parented without `use_connect`, so the armature
 stays a tree while every cycle keeps its bones. A connection node between two joints of a
-limb has no bone ending at it; every node of degree other than 2 has.
+limb has no bone ending at it; every node of degree other than 2 has. The bone ending at
+an end node stops END_INSET radii short of it (the node is the prong's tip on the surface;
+the joint sits inside the rounded tip, where an artist's last joint goes).
 
 Bone kinds: a bone whose tail is a skeleton node takes that node's kind ("end", "joint",
 "connection"); a bone whose tail is an inner polyline point is a "connection" (such points
@@ -37,7 +39,7 @@ BONES_PER_LINK = 5.0
 #: draws a joint, against the squared distance of the polyline to the bones (in radii^2).
 NARROWING = 1.0
 #: An end bone's tail stops this many radii (at its head) short of the end node.
-END_INSET = 0.0
+END_INSET = 1.0
 
 
 @dataclass

@@ -9,6 +9,12 @@ import pytest
 from dcg import bones
 
 
+@pytest.fixture
+def no_inset(monkeypatch):
+    """End bones' tails exactly at their end nodes (END_INSET 0), for tests of the chains."""
+    monkeypatch.setattr(bones, "END_INSET", 0.0)
+
+
 def skeleton_of(positions, kinds, links, polylines=None, root=0, radii=None):
     positions = np.asarray(positions, dtype=float)
     if polylines is None:
@@ -49,7 +55,7 @@ def test_plan_bones_one_chain_per_link_parents_first():
     assert all(np.linalg.norm(s.tail - s.head) > 0 for s in plan)
 
 
-def test_the_first_arm_is_a_connected_chain_of_its_polyline():
+def test_the_first_arm_is_a_connected_chain_of_its_polyline(no_inset):
     plan = bones.plan_bones(y_shape(), bone_detail=1.0)
     arm = [s for s in plan if s.link == 0]
     assert [s.name for s in arm] == ["connection.001", "connection.002", "end.001"]
@@ -60,14 +66,14 @@ def test_the_first_arm_is_a_connected_chain_of_its_polyline():
     assert [s.node for s in arm] == [-1, -1, 1]
 
 
-def test_bone_detail_zero_gives_one_bone_per_link():
+def test_bone_detail_zero_gives_one_bone_per_link(no_inset):
     plan = bones.plan_bones(y_shape(), bone_detail=0.0)
     assert len(plan) == 3
     assert all(s.parent is None for s in plan)  # all start at the root node
     assert np.allclose(plan[0].tail, [0, 0, 1])  # straight to the node, inner points dropped
 
 
-def test_chains_run_away_from_the_root_whatever_the_links_order():
+def test_chains_run_away_from_the_root_whatever_the_links_order(no_inset):
     skeleton = path_from_an_end()
     plan = bones.plan_bones(skeleton, bone_detail=0.0)
     assert [(s.name, s.parent, s.use_connect) for s in plan] == [
@@ -164,7 +170,7 @@ def test_two_bends_are_both_found_exactly():
     assert bones.articulations(points, np.full(len(points), 0.1), 3) == [0, 1, 5, 7]
 
 
-def test_a_straight_limb_gets_its_joint_where_it_narrows():
+def test_a_straight_limb_gets_its_joint_where_it_narrows(no_inset):
     for thin in (1, 2, 3):
         radii = [0.3] * 5
         radii[thin] = 0.1
@@ -179,7 +185,7 @@ def test_a_straight_limb_gets_its_joint_where_it_narrows():
     assert len(plan) == 2 and np.allclose(plan[1].tail, [0, 0, 4])
 
 
-def test_a_limb_runs_through_connection_nodes_and_stops_at_branches():
+def test_a_limb_runs_through_connection_nodes_and_stops_at_branches(no_inset):
     skeleton = straight_chain([0.3, 0.3, 0.2, 0.3, 0.1])
     plan = bones.plan_bones(skeleton, bone_detail=0.0)
     assert len(plan) == 1  # one limb of four links, one bone
@@ -201,3 +207,21 @@ def test_the_bone_count_follows_bone_detail():
     for spec, child in zip(plan[:-1], plan[1:]):  # one connected chain, parents first
         assert child.parent == spec.name and child.use_connect
         assert np.allclose(child.head, spec.tail)
+
+
+def test_an_end_bone_stops_short_of_its_tip_by_the_radius_at_its_head():
+    skeleton = straight_chain([0.3, 0.3, 0.3, 0.3, 0.2])
+    plan = bones.plan_bones(skeleton, bone_detail=0.1)  # two bones: 0 -> 2 -> 4 (z)
+    end = plan[-1]
+    assert end.kind == "end" and end.node == 4 and end.head_radius == pytest.approx(0.3)
+    assert np.allclose(end.tail, [0, 0, 4 - bones.END_INSET * 0.3])
+    assert np.allclose(plan[0].tail, end.head)  # inner joints stay where they were
+    # Never more than half the bone: a short end bone keeps half its length.
+    short = skeleton_of([[0, 0, 0], [0, 0, 0.2]], ["joint", "end"], [[0, 1]], radii=[1, 1])
+    (only,) = bones.plan_bones(short)
+    assert np.allclose(only.tail, [0, 0, 0.1])
+    # An end node that branches on (degree > 1) keeps its bone's tail, its children's head.
+    forked = skeleton_of([[0, 0, 0], [0, 0, 1], [0, 1, 2], [0, -1, 2]],
+                         ["joint", "end", "end", "end"], [[0, 1], [1, 2], [1, 3]])
+    first = bones.plan_bones(forked, bone_detail=0.0)[0]
+    assert first.node == 1 and np.allclose(first.tail, [0, 0, 1])
