@@ -22,7 +22,14 @@ Bone kinds: a bone whose tail is a skeleton node takes that node's kind ("end", 
 "connection"); a bone whose tail is an inner polyline point is a "connection" (such points
 have two neighbours, like connection nodes); `link` is the link of the bone's last
 segment. Names are the kind plus a counter per kind, in creation order: ``end.001``,
-``joint.001``, ``connection.012``.
+``joint.001``, ``connection.012``. When the skeleton has a mirror plane (`mirror_plane`,
+tolerant of small asymmetries) through its root, the limbs on either side that mirror each
+other (`limb_sides`) get the same number of bones and Blender's side suffixes, the two
+chains sharing their counters bone by bone (``connection.004.L`` / ``connection.004.R``,
+``end.002.L`` / ``end.002.R``: what X-Axis Mirror, Symmetrize and Paste Pose Flipped pair);
+.L is the side the plane's normal points to (its largest component positive: +X for a
+model mirrored across x = 0). The middle's limbs and every limb of a shape with no mirror
+plane keep the plain names.
 """
 
 from collections import deque
@@ -40,6 +47,9 @@ BONES_PER_LINK = 5.0
 NARROWING = 1.0
 #: An end bone's tail stops this many radii (at its head) short of the end node.
 END_INSET = 1.0
+#: A mirror plane is accepted when the skeleton's nodes mirrored across it lie this close to
+#: nodes (mean, in bounding-box diagonals); limbs' sides and pairs use the same tolerance.
+MIRROR_TOLERANCE = 0.03
 
 
 @dataclass
@@ -222,19 +232,23 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL):
     min_length = 1e-6 * max(float(np.linalg.norm(extent)), 1e-12)
     degree = np.bincount(np.asarray(skeleton.links, dtype=np.int64).ravel(),
                          minlength=len(positions))
-    counters = dict.fromkeys(KINDS, 0)
+    name_of = _namer()
     tail_bone = {}  # node -> name of the bone whose tail is that node
     bones = []
-    for limb in limbs(skeleton):
-        points, nodes, segment_links, radii = limb_polyline(skeleton, limb)
-        bones_wanted = bone_count(len(limb), len(points) - 1, bone_detail)
-        keep = _drop_short(points, articulations(points, radii, bones_wanted), min_length)
+    chains = limbs(skeleton)
+    polylines = [limb_polyline(skeleton, limb) for limb in chains]
+    sides = limb_sides(skeleton, [polyline[0] for polyline in polylines])
+    wanted = _paired_counts([bone_count(len(limb), len(polyline[0]) - 1, bone_detail)
+                             for limb, polyline in zip(chains, polylines)],
+                            [len(polyline[0]) - 1 for polyline in polylines], sides)
+    for limb, (points, nodes, segment_links, radii), (side, pair), count in zip(
+            chains, polylines, sides, wanted):
+        keep = _drop_short(points, articulations(points, radii, count), min_length)
         parent, first_tree = tail_bone.get(limb[0][1]), limb[0][3]
         for i, (a, b) in enumerate(zip(keep[:-1], keep[1:])):
             node = int(nodes[b])
             kind = kinds[node] if node >= 0 else "connection"
-            counters[kind] = counters.get(kind, 0) + 1
-            name = f"{kind}.{counters[kind]:03d}"
+            name = name_of(kind, side, pair, i)
             inset = kind == "end" and degree[node] == 1
             bones.append(BoneSpec(name, points[a].copy(), _tail(points, radii, a, b, inset),
                                   parent, parent is not None and (i > 0 or first_tree), kind,
@@ -244,6 +258,112 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL):
         if limb[-1][3]:
             tail_bone[limb[-1][2]] = parent
     return bones
+
+
+def _paired_counts(counts, segments, sides):
+    """`counts` with the two limbs of each pair given the same count (the larger, at most
+    either's segments), so that their bones pair name by name."""
+    counts = list(counts)
+    by_pair = {}
+    for i, (side, pair) in enumerate(sides):
+        if side is not None:
+            by_pair.setdefault(pair, []).append(i)
+    for members in by_pair.values():
+        shared = min(max(counts[i] for i in members), min(segments[i] for i in members))
+        for i in members:
+            counts[i] = shared
+    return counts
+
+
+def _namer():
+    """name(kind, side, pair, index): the kind plus a counter per kind (``end.001``); for a
+    limb with a side ("L"/"R") the side suffix too, the two limbs of a pair sharing their
+    counters bone by bone (``end.003.L`` / ``end.003.R``), counted apart from the others."""
+    counters, waiting = {}, {}
+
+    def name(kind, side=None, pair=-1, index=0):
+        if side is None:
+            counters[kind] = counters.get(kind, 0) + 1
+            return f"{kind}.{counters[kind]:03d}"
+        number = waiting.pop((pair, index, kind), None)
+        if number is None:
+            counters[kind, "sided"] = number = counters.get((kind, "sided"), 0) + 1
+            if pair >= 0:
+                waiting[pair, index, kind] = number
+        return f"{kind}.{number:03d}.{side}"
+    return name
+
+
+def mirror_plane(points):
+    """Return (normal, offset, error) of the best mirror plane n.x = offset of `points` (#P by
+    3), or None (fewer than 2 points, no candidate). Candidates: the coordinate planes and
+    the principal planes through the centroid, each refined twice (the plane through the
+    midpoints of each point and its mirror image's nearest point); a plane with fewer than
+    a quarter of the points farther than MIRROR_TOLERANCE from it is skipped (a flat shape
+    lies in a plane that mirrors it trivially). error: the mean distance from each mirrored
+    point to its nearest point, over the points' bounding-box diagonal. The normal's largest
+    component is positive (its side is Blender's left, .L, for a model facing -Y)."""
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    diagonal = float(np.linalg.norm(np.ptp(points, axis=0))) if len(points) else 0.0
+    if len(points) < 2 or diagonal == 0:
+        return None
+    centre = points.mean(axis=0)
+    best = None
+    for normal in list(np.eye(3)) + list(np.linalg.svd(points - centre)[2]):
+        offset = float(normal @ centre)
+        for refinement in range(3):
+            mirrored = points - 2 * (points @ normal - offset)[:, None] * normal
+            distances = np.linalg.norm(mirrored[:, None] - points[None], axis=2)
+            match = distances.argmin(axis=1)
+            error = float(distances[np.arange(len(points)), match].mean()) / diagonal
+            if refinement == 2:
+                break
+            gaps = points - points[match]
+            gaps *= np.where(gaps @ normal < 0, -1.0, 1.0)[:, None]
+            if np.linalg.norm(gaps.sum(axis=0)) > 1e-9 * diagonal:
+                normal = gaps.sum(axis=0) / np.linalg.norm(gaps.sum(axis=0))
+            offset = float(np.mean((points + points[match]) @ normal) / 2)
+        off_plane = np.abs(points @ normal - offset) > MIRROR_TOLERANCE * diagonal
+        if off_plane.mean() < 0.25:  # a plane the shape lies in mirrors it trivially
+            continue
+        if best is None or error < best[2]:
+            best = (normal, offset, error)
+    if best is None:
+        return None
+    normal, offset, error = best
+    if normal[np.argmax(np.abs(normal))] < 0:
+        normal, offset = -normal, -offset
+    return normal, offset, error
+
+
+def limb_sides(skeleton, limb_points):
+    """Return (side, pair) per limb (limb_points: each limb's polyline points): side "L" or
+    "R" for a limb paired with its mirror image across the skeleton's mirror plane
+    (`mirror_plane` of the nodes, error at most MIRROR_TOLERANCE, the root on it), pair the
+    pair's index; (None, -1) for the limbs of the middle, unpaired ones and every limb of a
+    shape with no mirror plane."""
+    none = [(None, -1)] * len(limb_points)
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    plane = mirror_plane(positions)
+    if plane is None or plane[2] > MIRROR_TOLERANCE or not 0 <= skeleton.root < len(positions):
+        return none
+    normal, offset, _ = plane
+    tolerance = MIRROR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
+    if abs(positions[skeleton.root] @ normal - offset) > tolerance:
+        return none
+    centres = np.array([np.mean(points, axis=0) for points in limb_points]).reshape(-1, 3)
+    signed = centres @ normal - offset
+    mirrored = centres - 2 * signed[:, None] * normal
+    left, right = np.flatnonzero(signed > tolerance), np.flatnonzero(signed < -tolerance)
+    if not len(left) or not len(right):
+        return none
+    gaps = np.linalg.norm(mirrored[left][:, None] - centres[right][None], axis=2)
+    result = list(none)
+    for row, i in enumerate(left):
+        column = int(gaps[row].argmin())
+        if gaps[:, column].argmin() == row and gaps[row, column] <= 2 * tolerance:
+            result[i], result[right[column]] = ("L", row), ("R", row)
+    return result
 
 
 def _drop_short(points, keep, min_length):

@@ -50,7 +50,7 @@ def test_plan_bones_one_chain_per_link_parents_first():
         assert spec.parent is None or spec.parent in seen
         seen.add(spec.name)
     ends = sorted(s.name for s in plan if s.kind == "end")
-    assert ends == ["end.001", "end.002", "end.003"]
+    assert ends == ["end.001", "end.001.L", "end.001.R"]  # the two lower arms mirror
     assert {s.node for s in plan if s.kind == "end"} == {1, 2, 3}
     assert all(np.linalg.norm(s.tail - s.head) > 0 for s in plan)
 
@@ -225,3 +225,45 @@ def test_an_end_bone_stops_short_of_its_tip_by_the_radius_at_its_head():
                          ["joint", "end", "end", "end"], [[0, 1], [1, 2], [1, 3]])
     first = bones.plan_bones(forked, bone_detail=0.0)[0]
     assert first.node == 1 and np.allclose(first.tail, [0, 0, 1])
+
+
+# --- sides: .L / .R across a mirror plane ------------------------------------------------------
+
+def body(lean=0.0, arm_drop=0.0):
+    """A spine (root joint 0 at the hips, up to a chest joint 1, a head end 2), two legs and
+    two arms of two links each (knees, elbows: connection nodes). `lean` moves the head end
+    sideways, `arm_drop` lowers the right arm's hand (asymmetries)."""
+    positions = [[0, 0, 0], [0, 0, 1], [lean, 0, 1.6],
+                 [0.3, 0, -0.6], [0.3, 0, -1.2], [-0.3, 0, -0.6], [-0.3, 0, -1.2],
+                 [0.6, 0, 1], [1.2, 0, 1], [-0.6, 0, 1], [-1.2, 0, 1 - arm_drop]]
+    kinds = ["joint", "joint", "end", "connection", "end", "connection", "end",
+             "connection", "end", "connection", "end"]
+    links = [[0, 1], [1, 2], [0, 3], [3, 4], [0, 5], [5, 6], [1, 7], [7, 8], [1, 9], [9, 10]]
+    return skeleton_of(positions, kinds, links, root=0)
+
+
+def test_paired_limbs_get_mirrored_names_and_the_middle_keeps_its_own():
+    plan = bones.plan_bones(body(), bone_detail=1.0)
+    names = {s.name: s for s in plan}
+    left = sorted(n for n in names if n.endswith(".L"))
+    right = sorted(n for n in names if n.endswith(".R"))
+    assert len(left) == len(right) == 4 and [n[:-2] for n in left] == [n[:-2] for n in right]
+    for name in left:  # heads and tails mirror across x = 0
+        other = names[name[:-1] + "R"]
+        assert np.allclose(names[name].head * [-1, 1, 1], other.head)
+        assert np.allclose(names[name].tail * [-1, 1, 1], other.tail)
+        assert names[name].head[0] >= 0 and names[name].tail[0] > 0  # .L on +X
+    middle = [n for n in names if not n.endswith((".L", ".R"))]
+    assert sorted(middle) == ["end.001", "joint.001"]  # the spine
+    normal, offset, error = bones.mirror_plane(body().positions)
+    assert np.allclose(normal, [1, 0, 0]) and abs(offset) < 1e-9 and error < 1e-9
+
+
+def test_a_small_asymmetry_is_tolerated_a_large_one_is_not():
+    plan = bones.plan_bones(body(lean=0.05, arm_drop=0.05), bone_detail=1.0)
+    assert sum(s.name.endswith(".L") for s in plan) == 4
+    assert sum(s.name.endswith(".R") for s in plan) == 4
+    skewed = bones.plan_bones(body(lean=0.9, arm_drop=1.5), bone_detail=1.0)
+    assert not any(s.name.endswith((".L", ".R")) for s in skewed)
+    assert sorted(s.name for s in skewed if s.kind == "end") == [
+        "end.001", "end.002", "end.003", "end.004", "end.005"]
