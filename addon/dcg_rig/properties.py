@@ -50,8 +50,8 @@ def addon_annotations(flags=frozenset(), with_weights=True):
     result = {"bone_detail": FloatProperty(
         name="Bone Detail", subtype="FACTOR", min=0.0, max=1.0,
         default=options.ADDON_DEFAULTS["bone_detail"], options=set(flags),
-        description="How closely bone chains follow the link polylines: 0 gives one bone "
-                    "per link, 1 one bone per polyline segment")}
+        description="How many bones each limb gets, its joints where it bends and "
+                    "narrows: 0 gives one bone per limb, 1 one bone per polyline segment")}
     if with_weights:
         result["weights"] = EnumProperty(
             name="Weights", items=options.WEIGHT_METHODS,

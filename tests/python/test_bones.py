@@ -9,6 +9,12 @@ import pytest
 from dcg import bones
 
 
+@pytest.fixture
+def no_inset(monkeypatch):
+    """End bones' tails exactly at their end nodes (END_INSET 0), for tests of the chains."""
+    monkeypatch.setattr(bones, "END_INSET", 0.0)
+
+
 def skeleton_of(positions, kinds, links, polylines=None, root=0, radii=None):
     positions = np.asarray(positions, dtype=float)
     if polylines is None:
@@ -44,12 +50,12 @@ def test_plan_bones_one_chain_per_link_parents_first():
         assert spec.parent is None or spec.parent in seen
         seen.add(spec.name)
     ends = sorted(s.name for s in plan if s.kind == "end")
-    assert ends == ["end.001", "end.002", "end.003"]
+    assert ends == ["end.001", "end.001.L", "end.001.R"]  # the two lower arms mirror
     assert {s.node for s in plan if s.kind == "end"} == {1, 2, 3}
     assert all(np.linalg.norm(s.tail - s.head) > 0 for s in plan)
 
 
-def test_the_first_arm_is_a_connected_chain_of_its_polyline():
+def test_the_first_arm_is_a_connected_chain_of_its_polyline(no_inset):
     plan = bones.plan_bones(y_shape(), bone_detail=1.0)
     arm = [s for s in plan if s.link == 0]
     assert [s.name for s in arm] == ["connection.001", "connection.002", "end.001"]
@@ -60,14 +66,14 @@ def test_the_first_arm_is_a_connected_chain_of_its_polyline():
     assert [s.node for s in arm] == [-1, -1, 1]
 
 
-def test_bone_detail_zero_gives_one_bone_per_link():
+def test_bone_detail_zero_gives_one_bone_per_link(no_inset):
     plan = bones.plan_bones(y_shape(), bone_detail=0.0)
     assert len(plan) == 3
     assert all(s.parent is None for s in plan)  # all start at the root node
     assert np.allclose(plan[0].tail, [0, 0, 1])  # straight to the node, inner points dropped
 
 
-def test_chains_run_away_from_the_root_whatever_the_links_order():
+def test_chains_run_away_from_the_root_whatever_the_links_order(no_inset):
     skeleton = path_from_an_end()
     plan = bones.plan_bones(skeleton, bone_detail=0.0)
     assert [(s.name, s.parent, s.use_connect) for s in plan] == [
@@ -111,13 +117,6 @@ def test_zero_length_segments_are_merged_away():
     assert len(plan) == 2 and np.allclose(plan[0].tail, plan[1].head)
 
 
-def test_simplify_polyline_keeps_ends_and_the_farthest_point():
-    points = np.array([[0, 0, 0], [1, 0.01, 0], [2, 1, 0], [3, 0, 0], [4, 0, 0]], float)
-    assert bones.simplify_polyline(points, 0.0) == [0, 4]
-    assert bones.simplify_polyline(points, 1.0) == [0, 1, 2, 3, 4]
-    assert bones.simplify_polyline(points, 0.34) == [0, 2, 4]
-
-
 def test_bone_arrays_index_the_parents_in_plan_order():
     plan = bones.plan_bones(y_shape(), bone_detail=1.0)
     arrays = bones.bone_arrays(plan)
@@ -132,3 +131,139 @@ def test_bone_arrays_index_the_parents_in_plan_order():
         assert arrays["kinds"][b] == spec.kind and arrays["links"][b] == spec.link
     empty = bones.bone_arrays([])
     assert empty["heads"].shape == (0, 3) and empty["parents"].dtype == np.int64
+
+
+# --- joints at articulations --------------------------------------------------------------------
+
+def bent_tube(bend_at=3, count=10):
+    """One link, an L of `count` evenly spaced points bent at point `bend_at`, even radii."""
+    points = [[0, 0, float(i)] for i in range(bend_at + 1)]
+    points += [[float(i), 0, float(bend_at)] for i in range(1, count - bend_at)]
+    return skeleton_of([points[0], points[-1]], ["joint", "end"], [[0, 1]], [points],
+                       radii=[0.2, 0.2])
+
+
+def straight_chain(radii):
+    """A straight limb of len(radii) - 1 links (5 points each) through connection nodes."""
+    count = len(radii)
+    positions = [[0, 0, float(i)] for i in range(count)]
+    kinds = ["joint"] + ["connection"] * (count - 2) + ["end"]
+    links = [[i, i + 1] for i in range(count - 1)]
+    polylines = [[[0, 0, i + t] for t in np.linspace(0, 1, 5)] for i in range(count - 1)]
+    return skeleton_of(positions, kinds, links, polylines, radii=radii)
+
+
+def test_a_bent_tube_gets_its_joint_at_the_bend():
+    for bend_at in (2, 3, 6):
+        skeleton = bent_tube(bend_at)
+        points = skeleton.polylines[0]
+        assert bones.articulations(points, np.full(len(points), 0.2), 2) == [0, bend_at, 9]
+        plan = bones.plan_bones(skeleton, bone_detail=0.4)  # round(0.4 x 5 x 1) = 2 bones
+        assert len(plan) == 2
+        assert np.allclose(plan[0].tail, points[bend_at]) and plan[0].kind == "connection"
+        assert plan[1].kind == "end" and plan[1].node == 1
+
+
+def test_two_bends_are_both_found_exactly():
+    points = np.array([[0, 0, 0], [0, 0, 1], [1, 0, 1], [2, 0, 1], [3, 0, 1], [4, 0, 1],
+                       [4, 0, 2], [4, 0, 3]], float)
+    assert bones.articulations(points, np.full(len(points), 0.1), 3) == [0, 1, 5, 7]
+
+
+def test_a_straight_limb_gets_its_joint_where_it_narrows(no_inset):
+    for thin in (1, 2, 3):
+        radii = [0.3] * 5
+        radii[thin] = 0.1
+        skeleton = straight_chain(radii)
+        plan = bones.plan_bones(skeleton, bone_detail=0.1)  # round(0.1 x 5 x 4 links) = 2
+        assert len(plan) == 2
+        assert plan[0].node == thin and plan[0].kind == "connection"
+        assert np.allclose(plan[0].tail, skeleton.positions[thin])
+        assert plan[0].tail_radius == pytest.approx(0.1)
+    # Without a narrowing a straight limb has nothing to prefer but fit: any split is exact.
+    plan = bones.plan_bones(straight_chain([0.3] * 5), bone_detail=0.1)
+    assert len(plan) == 2 and np.allclose(plan[1].tail, [0, 0, 4])
+
+
+def test_a_limb_runs_through_connection_nodes_and_stops_at_branches(no_inset):
+    skeleton = straight_chain([0.3, 0.3, 0.2, 0.3, 0.1])
+    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    assert len(plan) == 1  # one limb of four links, one bone
+    assert np.allclose(plan[0].head, [0, 0, 0]) and np.allclose(plan[0].tail, [0, 0, 4])
+    assert (plan[0].kind, plan[0].node, plan[0].link) == ("end", 4, 3)
+    # y_shape's root joint branches three ways: three limbs, three bones at detail 0.
+    assert len(bones.plan_bones(y_shape(), bone_detail=0.0)) == 3
+    assert [len(limb) for limb in bones.limbs(skeleton)] == [4]
+
+
+def test_the_bone_count_follows_bone_detail():
+    skeleton = straight_chain([0.3, 0.25, 0.2, 0.3, 0.25, 0.2, 0.1])  # 6 links, 24 segments
+    counts = [len(bones.plan_bones(skeleton, bone_detail=d)) for d in np.linspace(0, 1, 11)]
+    assert counts == sorted(counts)  # never fewer bones for more detail
+    assert counts[0] == 1 and counts[-1] == 24 and counts[5] == 15  # 0.5: 2.5 per link
+    assert bones.bone_count(6, 24, 0.5) == 15 and bones.bone_count(6, 24, 2.0) == 24
+    assert bones.bone_count(6, 24, -1.0) == 1
+    plan = bones.plan_bones(skeleton, bone_detail=0.5)
+    for spec, child in zip(plan[:-1], plan[1:]):  # one connected chain, parents first
+        assert child.parent == spec.name and child.use_connect
+        assert np.allclose(child.head, spec.tail)
+
+
+def test_an_end_bone_stops_short_of_its_tip_by_the_radius_at_its_head():
+    skeleton = straight_chain([0.3, 0.3, 0.3, 0.3, 0.2])
+    plan = bones.plan_bones(skeleton, bone_detail=0.1)  # two bones: 0 -> 2 -> 4 (z)
+    end = plan[-1]
+    assert end.kind == "end" and end.node == 4 and end.head_radius == pytest.approx(0.3)
+    assert np.allclose(end.tail, [0, 0, 4 - bones.END_INSET * 0.3])
+    assert np.allclose(plan[0].tail, end.head)  # inner joints stay where they were
+    # Never more than half the bone: a short end bone keeps half its length.
+    short = skeleton_of([[0, 0, 0], [0, 0, 0.2]], ["joint", "end"], [[0, 1]], radii=[1, 1])
+    (only,) = bones.plan_bones(short)
+    assert np.allclose(only.tail, [0, 0, 0.1])
+    # An end node that branches on (degree > 1) keeps its bone's tail, its children's head.
+    forked = skeleton_of([[0, 0, 0], [0, 0, 1], [0, 1, 2], [0, -1, 2]],
+                         ["joint", "end", "end", "end"], [[0, 1], [1, 2], [1, 3]])
+    first = bones.plan_bones(forked, bone_detail=0.0)[0]
+    assert first.node == 1 and np.allclose(first.tail, [0, 0, 1])
+
+
+# --- sides: .L / .R across a mirror plane ------------------------------------------------------
+
+def body(lean=0.0, arm_drop=0.0):
+    """A spine (root joint 0 at the hips, up to a chest joint 1, a head end 2), two legs and
+    two arms of two links each (knees, elbows: connection nodes). `lean` moves the head end
+    sideways, `arm_drop` lowers the right arm's hand (asymmetries)."""
+    positions = [[0, 0, 0], [0, 0, 1], [lean, 0, 1.6],
+                 [0.3, 0, -0.6], [0.3, 0, -1.2], [-0.3, 0, -0.6], [-0.3, 0, -1.2],
+                 [0.6, 0, 1], [1.2, 0, 1], [-0.6, 0, 1], [-1.2, 0, 1 - arm_drop]]
+    kinds = ["joint", "joint", "end", "connection", "end", "connection", "end",
+             "connection", "end", "connection", "end"]
+    links = [[0, 1], [1, 2], [0, 3], [3, 4], [0, 5], [5, 6], [1, 7], [7, 8], [1, 9], [9, 10]]
+    return skeleton_of(positions, kinds, links, root=0)
+
+
+def test_paired_limbs_get_mirrored_names_and_the_middle_keeps_its_own():
+    plan = bones.plan_bones(body(), bone_detail=1.0)
+    names = {s.name: s for s in plan}
+    left = sorted(n for n in names if n.endswith(".L"))
+    right = sorted(n for n in names if n.endswith(".R"))
+    assert len(left) == len(right) == 4 and [n[:-2] for n in left] == [n[:-2] for n in right]
+    for name in left:  # heads and tails mirror across x = 0
+        other = names[name[:-1] + "R"]
+        assert np.allclose(names[name].head * [-1, 1, 1], other.head)
+        assert np.allclose(names[name].tail * [-1, 1, 1], other.tail)
+        assert names[name].head[0] >= 0 and names[name].tail[0] > 0  # .L on +X
+    middle = [n for n in names if not n.endswith((".L", ".R"))]
+    assert sorted(middle) == ["end.001", "joint.001"]  # the spine
+    normal, offset, error = bones.mirror_plane(body().positions)
+    assert np.allclose(normal, [1, 0, 0]) and abs(offset) < 1e-9 and error < 1e-9
+
+
+def test_a_small_asymmetry_is_tolerated_a_large_one_is_not():
+    plan = bones.plan_bones(body(lean=0.05, arm_drop=0.05), bone_detail=1.0)
+    assert sum(s.name.endswith(".L") for s in plan) == 4
+    assert sum(s.name.endswith(".R") for s in plan) == 4
+    skewed = bones.plan_bones(body(lean=0.9, arm_drop=1.5), bone_detail=1.0)
+    assert not any(s.name.endswith((".L", ".R")) for s in skewed)
+    assert sorted(s.name for s in skewed if s.kind == "end") == [
+        "end.001", "end.002", "end.003", "end.004", "end.005"]
