@@ -63,8 +63,8 @@ def build_parser() -> argparse.ArgumentParser:
                        "dcg_rig/cli.py (default $DCG_BLENDER_CLI, else the dcg_rig add-on "
                        "installed in that Blender)")
     batch.add_argument("--bone-detail", type=float, default=bones.BONE_DETAIL,
-                       help="the bone plan's detail, 0 (a bone per link) to 1 (a bone per "
-                       "polyline segment), for the .weights.npz and the .glb alike (default "
+                       help="the bone plan's detail, 0 (one bone per limb) to 1 (a bone per "
+                       "polyline segment; dcg.bones explains the count), for the .weights.npz and the .glb alike (default "
                        f"{bones.BONE_DETAIL}, the add-on's)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     _add_option_flags(batch, OPTIONS)
