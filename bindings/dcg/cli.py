@@ -64,8 +64,8 @@ def build_parser() -> argparse.ArgumentParser:
                        "installed in that Blender)")
     batch.add_argument("--bone-detail", type=float, default=bones.BONE_DETAIL,
                        help="the bone plan's detail, 0 (one bone per limb) to 1 (a bone per "
-                       "polyline segment; dcg.bones explains the count), for the .weights.npz and the .glb alike (default "
-                       f"{bones.BONE_DETAIL}, the add-on's)")
+                       "polyline segment; dcg.bones explains the count), for the .weights.npz and "
+                       f"the .glb alike (default {bones.BONE_DETAIL}, the add-on's)")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     _add_option_flags(batch, OPTIONS)
     return parser
