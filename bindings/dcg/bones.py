@@ -175,12 +175,17 @@ def _traversal(skeleton):
                 yield index, node, other, tree
 
 
+def _degrees(skeleton):
+    """The number of links at each node (#N int64; a loop link counts twice)."""
+    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
+    return np.bincount(links.ravel(), minlength=len(skeleton.positions))
+
+
 def limbs(skeleton):
     """Return the skeleton's limbs: lists of (link, from_node, to_node, is_tree_link), each a
     chain of links in traversal order (see _traversal) that passes through nodes of degree 2
     (not the root) and stops at a branching node, an end or a link that closes a cycle."""
-    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
-    degree = np.bincount(links.ravel(), minlength=len(skeleton.positions))
+    degree = _degrees(skeleton)
     result, open_at = [], {}  # open_at: node -> the limb a tree link brought there
     for step in _traversal(skeleton):
         link, start, stop, tree = step
@@ -230,17 +235,16 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL):
     kinds = [str(k) for k in skeleton.kinds]
     extent = np.ptp(positions, axis=0) if len(positions) else np.zeros(3)
     min_length = 1e-6 * max(float(np.linalg.norm(extent)), 1e-12)
-    degree = np.bincount(np.asarray(skeleton.links, dtype=np.int64).ravel(),
-                         minlength=len(positions))
+    degree = _degrees(skeleton)
     name_of = _namer()
     tail_bone = {}  # node -> name of the bone whose tail is that node
     bones = []
     chains = limbs(skeleton)
     polylines = [limb_polyline(skeleton, limb) for limb in chains]
     sides = limb_sides(skeleton, [polyline[0] for polyline in polylines])
-    wanted = _paired_counts([bone_count(len(limb), len(polyline[0]) - 1, bone_detail)
-                             for limb, polyline in zip(chains, polylines)],
-                            [len(polyline[0]) - 1 for polyline in polylines], sides)
+    segments = [len(polyline[0]) - 1 for polyline in polylines]
+    wanted = _paired_counts([bone_count(len(limb), count, bone_detail)
+                             for limb, count in zip(chains, segments)], segments, sides)
     for limb, (points, nodes, segment_links, radii), (side, pair), count in zip(
             chains, polylines, sides, wanted):
         keep = _drop_short(points, articulations(points, radii, count), min_length)
