@@ -12,6 +12,7 @@
 #include <array>
 #include <exception>
 #include <iterator>
+#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -135,6 +136,37 @@ std::vector<std::vector<std::size_t>> overlapping_groups(const std::vector<SM>& 
   return groups;
 }
 
+// `mesh` with its vertices in lexicographic order of position and its faces, each starting at
+// its smallest vertex, in lexicographic order of corners: the same surface whatever order
+// CGAL's corefinement made it in. (It does not keep one: its box intersection draws from CGAL's
+// shared random generator, so Q_Spider's union came out in a different order in every call, and
+// the remeshing after it, and so the skeleton, followed the order: 123 to 139 nodes.)
+Mesh canonical_order(const Mesh& mesh) {
+  const Eigen::Index nv = mesh.V.rows(), nf = mesh.F.rows();
+  std::vector<int> order(nv), rank(nv);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const auto pa = mesh.V.row(a), pb = mesh.V.row(b);
+    return std::lexicographical_compare(pa.data(), pa.data() + 3, pb.data(), pb.data() + 3);
+  });
+  Mesh out;
+  out.V.resize(nv, 3);
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    rank[order[i]] = static_cast<int>(i);
+    out.V.row(i) = mesh.V.row(order[i]);
+  }
+  std::vector<std::array<int, 3>> faces(nf);
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    std::array<int, 3> c = {rank[mesh.F(f, 0)], rank[mesh.F(f, 1)], rank[mesh.F(f, 2)]};
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());  // keeps orientation
+    faces[f] = c;
+  }
+  std::sort(faces.begin(), faces.end());
+  out.F.resize(nf, 3);
+  for (Eigen::Index f = 0; f < nf; ++f) out.F.row(f) << faces[f][0], faces[f][1], faces[f][2];
+  return out;
+}
+
 }  // namespace
 
 std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
@@ -198,7 +230,7 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
     nv += s.V.rows();
     nf += s.F.rows();
   }
-  return out;
+  return canonical_order(out);
 }
 
 }  // namespace dcg::internal
