@@ -38,7 +38,9 @@ class PyExtractor {
     const double t = tau.cast<double>();
     return ProngsView{run([t](dcg::Extractor& e) { return e.prongs_at(t); }), nullptr};
   }
-  const dcg::EndPoints& end_points() { return run(&dcg::Extractor::end_points); }
+  // The stages a retune drops (end points, graph, remap, skeleton) cross as copies: a Python
+  // object holding one of them must outlive the next retune, which frees the extractor's own.
+  dcg::EndPoints end_points() { return run(&dcg::Extractor::end_points); }
   /// Stage 4 at `points` (#P x 3, normalized units), or at the domain points when None.
   static py::object force_field(py::object self, py::object points) {
     PyExtractor& x = self.cast<PyExtractor&>();
@@ -52,9 +54,12 @@ class PyExtractor {
   const dcg::ConnectionPoints& connection_points() {
     return run(&dcg::Extractor::connection_points);
   }
-  const dcg::DomainGraph& domain_graph() { return run(&dcg::Extractor::domain_graph); }
-  const dcg::Remapped& remap() { return run(&dcg::Extractor::remap); }
-  const dcg::Skeleton& skeleton() { return run(&dcg::Extractor::skeleton); }
+  dcg::DomainGraph domain_graph() { return run(&dcg::Extractor::domain_graph); }
+  dcg::Remapped remap() { return run(&dcg::Extractor::remap); }
+  dcg::Skeleton skeleton() { return run(&dcg::Extractor::skeleton); }
+  void retune(double tau) {
+    run([tau](dcg::Extractor& e) { e.retune(tau); });
+  }
   py::list timings() const { return py::list(py::cast(extractor_.timings())); }
   py::dict options() const { return options_to_dict(extractor_.options()); }
 
@@ -81,12 +86,13 @@ void bind_pipeline(py::module_& m) {
       .def("voronoi_balls", &PyExtractor::voronoi_balls, kept)
       .def("domain_balls", &PyExtractor::domain_balls, kept)
       .def("prongs", &PyExtractor::prongs, py::arg("tau") = py::none(), py::keep_alive<0, 1>())
-      .def("end_points", &PyExtractor::end_points, kept)
+      .def("end_points", &PyExtractor::end_points)
       .def("force_field", &PyExtractor::force_field, py::arg("points") = py::none())
       .def("connection_points", &PyExtractor::connection_points, kept)
-      .def("domain_graph", &PyExtractor::domain_graph, kept)
-      .def("remap", &PyExtractor::remap, kept)
-      .def("skeleton", &PyExtractor::skeleton, kept)
+      .def("domain_graph", &PyExtractor::domain_graph)
+      .def("remap", &PyExtractor::remap)
+      .def("skeleton", &PyExtractor::skeleton)
+      .def("retune", &PyExtractor::retune, py::arg("tau"))
       .def_property_readonly("timings", &PyExtractor::timings)
       .def_property_readonly("options", &PyExtractor::options);
 }

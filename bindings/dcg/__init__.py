@@ -21,9 +21,12 @@ Stage by stage (each result kept, as in the paper's Fig. 4):
     remapped = ex.remap()         # stage 7: snake-fitted link polylines
     skeleton = ex.skeleton()
     print(ex.timings)             # [(stage, seconds), ...]
+    ex.retune(0.7)                # a live tau: only end points, graph, remap, skeleton rerun
+    fewer_bones = ex.skeleton()
 
 Each result is the engine's own object, read-only (cpp/include/dcg/<stage>.h documents its
-fields); it keeps the extractor alive. skin_weights and BoneHeat (bone heat solved once per bone
+fields); it keeps the extractor alive (those after stage 3, which a retune replaces, are
+copies). skin_weights and BoneHeat (bone heat solved once per bone
 set on a precomputed mesh) are in dcg.weights.
 
 Errors: ValueError for bad data or options, OSError for unreadable files, dcg.Cancelled when a
@@ -130,6 +133,20 @@ class Extractor:
             except (TypeError, ValueError):
                 raise ValueError(f"tau must be a number, got {tau!r}") from None
         return self._core.prongs(tau)
+
+    def retune(self, tau: float) -> None:
+        """A live tau: make `tau` this extractor's smoothness ratio. The prongs are
+        re-thresholded (no new geodesics) and only the stages that follow from them (end
+        points, domain graph, remap, skeleton) run again at the next call; the voronoi and
+        domain balls, the force field and the connection points are kept. Results taken
+        before stay as they were. ValueError for tau outside (0, 1]."""
+        try:
+            tau = float(tau)
+        except (TypeError, ValueError):
+            raise ValueError(f"tau must be a number, got {tau!r}") from None
+        self._core.retune(tau)
+        self.options["tau"] = tau
+        self._skeleton = None
 
     def end_points(self) -> EndPoints:
         """Each prong's end point (strongest prong first): the stage-1 ball nearest to its peak

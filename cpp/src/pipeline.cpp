@@ -3,6 +3,7 @@
 // the fallback skeleton in interim_graph.cpp.
 #include "dcg/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <stdexcept>
@@ -96,6 +97,27 @@ const ProngFeatures& Extractor::prongs() {
 }
 
 Prongs Extractor::prongs_at(double tau) { return prongs().hierarchy.prongs(tau); }
+
+void Extractor::retune(double tau) {
+  Options retuned = options_;
+  retuned.prongs.tau = tau;
+  retuned.validate();
+  options_ = retuned;
+  if (!prongs_) return;  // stage 3 will run at the new tau
+  const double t0 = now_seconds();
+  prongs_->prongs = prongs_->hierarchy.prongs(tau);
+  end_points_.reset();
+  graph_.reset();
+  remapped_.reset();
+  skeleton_.reset();
+  // The dropped stages are timed afresh when they run again; "retune" is the last re-threshold.
+  const auto dropped = [](const std::pair<std::string, double>& t) {
+    return t.first == "end_points" || t.first == "domain_graph" || t.first == "remap" ||
+           t.first == "skeleton" || t.first == "interim_graph" || t.first == "retune";
+  };
+  timings_.erase(std::remove_if(timings_.begin(), timings_.end(), dropped), timings_.end());
+  timed("retune", now_seconds() - t0);
+}
 
 const EndPoints& Extractor::end_points() {
   if (!end_points_) {

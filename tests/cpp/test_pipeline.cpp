@@ -371,4 +371,34 @@ TEST(Pipeline, SameInputSameSkeleton) {
   EXPECT_EQ(a.genus, 1);
 }
 
+// A live tau: the re-thresholded extractor gives what a fresh run at that tau gives, without
+// running stages 0-2, 4 and 5 again, and a bad tau changes nothing.
+TEST(Pipeline, RetuneGivesTheSkeletonOfAFreshRunAtThatTau) {
+  const dcg::Mesh mesh = dcg::read_mesh(repo_file("data/spot.obj"));
+  dcg::Options options;
+  options.voronoi.samples = 1500;
+  dcg::Extractor extractor(mesh.V, mesh.F, options);
+  const Eigen::Index ends_before = extractor.end_points().ball.size();
+  extractor.skeleton();
+  const auto count = [&](const std::string& stage) {
+    const auto& t = extractor.timings();
+    return std::count_if(t.begin(), t.end(), [&](const auto& s) { return s.first == stage; });
+  };
+  for (const double tau : {0.7, 0.95}) {
+    extractor.retune(tau);
+    EXPECT_EQ(extractor.options().prongs.tau, tau);
+    const dcg::Skeleton& retuned = extractor.skeleton();
+    options.prongs.tau = tau;
+    const dcg::Skeleton fresh = dcg::extract_skeleton(mesh.V, mesh.F, options);
+    EXPECT_EQ(retuned.positions, fresh.positions) << "tau " << tau;
+    EXPECT_EQ(retuned.links, fresh.links) << "tau " << tau;
+    EXPECT_EQ(retuned.kinds, fresh.kinds) << "tau " << tau;
+  }
+  EXPECT_NE(extractor.end_points().ball.size(), ends_before) << "spot: 4 ends at 0.85, 6 at 0.95";
+  for (const char* kept : {"prepare", "voronoi_balls", "prongs", "connection_points", "retune"})
+    EXPECT_EQ(count(kept), 1) << kept;
+  EXPECT_THROW(extractor.retune(0.0), dcg::InputError);
+  EXPECT_EQ(extractor.options().prongs.tau, 0.95);
+}
+
 }  // namespace

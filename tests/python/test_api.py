@@ -174,3 +174,27 @@ def test_sphere_gives_a_small_centred_skeleton(sphere):
     s = dcg.extract_skeleton(V, F, samples=1500)
     assert s.node_count >= 1
     assert np.linalg.norm(s.positions, axis=1).max() < 1.0
+
+
+def test_retune_reruns_only_the_stages_after_the_prongs(spot):
+    ex = dcg.Extractor(*spot, **FAST)
+    before = ex.skeleton()
+    graph, ends = ex.domain_graph(), ex.end_points()
+    labels = np.array(graph.face_labels)
+    ex.retune(0.95)
+    after = ex.skeleton()
+    assert after is not before and ex.options["tau"] == 0.95
+    fresh = dcg.extract_skeleton(*spot, **{**FAST, "tau": 0.95})
+    np.testing.assert_array_equal(after.positions, fresh.positions)
+    np.testing.assert_array_equal(after.links, fresh.links)
+    assert list(after.kinds).count("end") > list(before.kinds).count("end")
+    assert after.options["tau"] == 0.95
+    # What was taken before the retune is still whole (the engine's own results were dropped).
+    np.testing.assert_array_equal(graph.face_labels, labels)
+    assert len(ends.centers) == list(before.kinds).count("end")
+    stages = [name for name, _ in ex.timings]
+    assert stages.count("voronoi_balls") == stages.count("connection_points") == 1
+    assert "retune" in stages
+    with pytest.raises(ValueError):
+        ex.retune(1.5)
+    assert ex.options["tau"] == 0.95

@@ -50,6 +50,12 @@ class Extractor {
   /// Stage 3 re-thresholded at another smoothness ratio: no new geodesics (InputError for tau
   /// outside (0, 1]).
   Prongs prongs_at(double tau);
+  /// A live tau: makes `tau` the extractor's smoothness ratio (options().prongs.tau). When stage
+  /// 3 has run, its prongs are re-thresholded (no new geodesics) and the stages that follow from
+  /// them are dropped: end_points(), domain_graph(), remap() and skeleton() compute again at the
+  /// next call, from the kept stages 0-2, 4 and 5. References to the dropped results become
+  /// invalid. InputError for tau outside (0, 1]; nothing changes then.
+  void retune(double tau);
   /// Each prong's end point: a stage-1 ball (radius >= min_radius / 2) that sees its peak
   /// (normalized units). Needs stages 0, 1 and 3.
   const EndPoints& end_points();
