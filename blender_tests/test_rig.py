@@ -167,6 +167,47 @@ def test_preview_shows_the_skeleton_and_clear_removes_it():
     assert bpy.data.collections.get("DCG Preview") is None
 
 
+def _end_spheres_vertices():
+    return len(bpy.data.objects["DCG end nodes"].data.vertices)
+
+
+def test_tau_redraws_the_shown_preview_and_rig_binds_what_it_shows(spot, dcg):
+    from dcg_rig import live, rigging
+
+    assert bpy.ops.object.dcg_preview() == {"FINISHED"}
+    extractor = live.kept_for(spot.name).extractor
+    ends_before = list(extractor.skeleton().kinds).count("end")
+    per_sphere = _end_spheres_vertices() // ends_before
+    bpy.context.scene.dcg_rig.tau = 0.95  # the slider: spot's tail and head come out
+    skeleton = extractor.skeleton()
+    ends_after = list(skeleton.kinds).count("end")
+    assert ends_after > ends_before
+    assert _end_spheres_vertices() == per_sphere * ends_after  # the preview was redrawn
+    V, F = rigging.object_mesh(bpy.context, spot)
+    fresh = dcg.extract_skeleton(V, F, tau=bpy.context.scene.dcg_rig.tau)
+    np.testing.assert_allclose(skeleton.positions, fresh.positions)
+    stages = [name for name, _ in extractor.timings]
+    assert stages.count("voronoi_balls") == 1 and "retune" in stages  # nothing before re-ran
+    assert rig() == {"FINISHED"}
+    arm = armatures()[0]
+    assert "retune" in arm["dcg_timings"]  # the previewed extractor, not a new run
+    assert sum(b.get("dcg_kind") == "end" for b in arm.data.bones) == ends_after
+    assert live.kept_for(spot.name) is None
+
+
+def test_an_edited_mesh_is_not_redrawn_from_its_old_preview(spot):
+    from dcg_rig import live
+
+    assert bpy.ops.object.dcg_preview() == {"FINISHED"}
+    shown = _end_spheres_vertices()
+    spot.data.vertices[0].co.x += 0.05  # edited after the preview
+    bpy.context.scene.dcg_rig.tau = 0.95
+    assert _end_spheres_vertices() == shown
+    assert rig() == {"FINISHED"}
+    assert "retune" not in armatures()[0]["dcg_timings"]  # computed afresh
+    assert live.kept_for(spot.name) is None
+
+
 def test_rig_uses_the_world_space_evaluated_mesh(dcg):
     V, F = capsule()
     obj = add_mesh("capsule", V, F, location=(5.0, 0.0, 0.0), scale=3.0)

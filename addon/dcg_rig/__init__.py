@@ -28,17 +28,26 @@ except ImportError:  # plain Python (pytest on the pure modules)
 if bpy is not None:
     from bpy.props import PointerProperty
 
-    from . import operators, properties, ui
+    from . import live, operators, properties, ui
 
     _CLASSES = (properties.DCGRigSettings, *operators.CLASSES, *ui.CLASSES)
+
+    @bpy.app.handlers.persistent
+    def _forget_live_preview(*_):
+        """A loaded file has no preview of ours: drop the kept extractor (live.py)."""
+        live.forget()
 
     def register():
         for cls in _CLASSES:
             bpy.utils.register_class(cls)
         bpy.types.Scene.dcg_rig = PointerProperty(type=properties.DCGRigSettings)
         bpy.types.VIEW3D_MT_object_animation.append(ui.menu_entry)
+        bpy.app.handlers.load_post.append(_forget_live_preview)
 
     def unregister():
+        if _forget_live_preview in bpy.app.handlers.load_post:
+            bpy.app.handlers.load_post.remove(_forget_live_preview)
+        live.forget()
         bpy.types.VIEW3D_MT_object_animation.remove(ui.menu_entry)
         del bpy.types.Scene.dcg_rig
         for cls in reversed(_CLASSES):

@@ -19,7 +19,7 @@ import bpy
 from bpy.props import EnumProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
-from . import _engine, armature, mesh_io, options, preview, properties, rigging, worker
+from . import _engine, armature, live, mesh_io, options, preview, properties, rigging, worker
 
 
 def _kind_counts(kinds):
@@ -74,8 +74,9 @@ class _EngineOperator:
             engine = _engine.require()
             self.check(mesh_obj)
             V, F = rigging.object_mesh(context, mesh_obj)
-            skeleton = self.compute(engine)(V, F, progress=_console_progress(context),
-                                            **self.engine_options(values))
+            kwargs = self.engine_options(values)
+            compute = self.compute(engine, mesh_obj, V, F, kwargs)
+            skeleton = compute(V, F, progress=_console_progress(context), **kwargs)
         except Exception as error:  # reported, never raised into Blender
             return self.fail(error)
         finally:
@@ -100,7 +101,8 @@ class _EngineOperator:
         self._values = values
         self._mesh_name = mesh_obj.name
         self._started = time.perf_counter()
-        self._job = worker.SkeletonJob(engine, V, F, kwargs, self.compute(engine)).start()
+        compute = self.compute(engine, mesh_obj, V, F, kwargs)
+        self._job = worker.SkeletonJob(engine, V, F, kwargs, compute).start()
         _EngineOperator._running = True
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
@@ -156,9 +158,10 @@ class _EngineOperator:
         """Raise RigError when the operator cannot work on `mesh_obj` (before any engine
         work)."""
 
-    def compute(self, engine):
+    def compute(self, engine, mesh_obj, V, F, kwargs):
         """Return the engine call, `f(V, F, progress=..., **options)`, whose result
-        `finish` receives (each operator says which)."""
+        `finish` receives (each operator says which), for the triangles (V, F) of `mesh_obj`
+        and the engine options `kwargs`."""
         raise NotImplementedError
 
     def finish_checked(self, context, mesh_obj, skeleton, values):
@@ -208,6 +211,36 @@ def _run_extractor(engine):
     return run
 
 
+def _skeleton_of(extractor):
+    """Return `extractor` once its skeleton exists (computed here if it was retuned)."""
+    extractor.skeleton()
+    return extractor
+
+
+def retune_live_preview(context):
+    """The panel's Tau moved: redraw the shown preview at the new tau from its kept extractor
+    (`live`), when the preview is of the active mesh as it is now, with the panel's other
+    options; otherwise leave it as it is (Preview Skeleton makes a new one)."""
+    obj = context.active_object
+    if _EngineOperator._running or obj is None or live.kept_for(obj.name) is None:
+        return
+    if bpy.data.collections.get(preview.COLLECTION_NAME) is None:  # removed by hand
+        live.forget()
+        return
+    scene_settings = properties.settings(context)
+    values = {name: getattr(scene_settings, name) for name in properties.setting_names()}
+    try:
+        V, F = rigging.object_mesh(context, obj)
+        kwargs = options.engine_kwargs(properties.ENGINE_SPECS, values)
+        extractor = live.matching(obj.name, live.fingerprint(V, F), kwargs)
+        if extractor is None:
+            return
+        skeleton = extractor.skeleton()
+        preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
+    except Exception as error:  # a property update cannot report: the console says why
+        print(f"DCG: the preview was not updated: {type(error).__name__}: {error}")
+
+
 class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
     """Rig the active mesh: DCG skeleton, armature with end, joint and connection bones,
     and weights"""
@@ -221,10 +254,17 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
     def check(self, mesh_obj):
         rigging.check_riggable(mesh_obj)
 
-    def compute(self, engine):
-        return _run_extractor(engine)
+    def compute(self, engine, mesh_obj, V, F, kwargs):
+        # The previewed skeleton when the preview was made of these triangles with these
+        # options (a moved Tau slider included): what the user looked at is what gets bound.
+        previewed = live.matching(mesh_obj.name, live.fingerprint(V, F), kwargs)
+        self._previewed = previewed is not None
+        if previewed is None:
+            return _run_extractor(engine)
+        return lambda V, F, progress=None, **options: _skeleton_of(previewed)
 
     def finish(self, context, mesh_obj, extractor, values):
+        live.forget()  # the rig replaces the preview
         skeleton = extractor.skeleton()
         result = rigging.apply_rig(context, mesh_obj, skeleton, values["weights"],
                                    values["bone_detail"], extractor.prepare(),
@@ -234,8 +274,9 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
         arm_obj["dcg_method"] = skeleton.method
         for warning in result.warnings:
             self.report({"WARNING"}, f"DCG: {warning}")
+        source = "the previewed skeleton, " if self._previewed else ""
         self.report({"INFO"}, f"DCG: rigged {mesh_obj.name} with {result.bone_count} bones "
-                              f"({_kind_counts(skeleton.kinds)} nodes) in "
+                              f"({source}{_kind_counts(skeleton.kinds)} nodes) in "
                               f"{self.elapsed:.2f} s")
         return {"FINISHED"}
 
@@ -249,12 +290,15 @@ class OBJECT_OT_dcg_preview(_EngineOperator, bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
     __annotations__ = properties.engine_annotations({"SKIP_SAVE"})
 
-    def compute(self, engine):
+    def compute(self, engine, mesh_obj, V, F, kwargs):
+        self._kept_as = (mesh_obj.name, live.fingerprint(V, F), kwargs)
         return _run_extractor(engine)
 
     def finish(self, context, mesh_obj, extractor, values):
         skeleton = extractor.skeleton()
         preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
+        name, mesh_fingerprint, kwargs = self._kept_as
+        live.remember(name, mesh_fingerprint, kwargs, extractor)  # for the Tau slider and Rig
         self.report({"INFO"}, f"DCG: {len(skeleton.positions)} nodes "
                               f"({_kind_counts(skeleton.kinds)}), {len(skeleton.links)} links "
                               f"in {self.elapsed:.2f} s")
@@ -271,6 +315,7 @@ class OBJECT_OT_dcg_clear(bpy.types.Operator):
     def execute(self, context):
         obj = context.active_object
         removed = armature.clear_rigs(obj) if obj is not None and obj.type == "MESH" else 0
+        live.forget()
         had_preview = bpy.data.collections.get(preview.COLLECTION_NAME) is not None
         preview.clear_preview()
         self.report({"INFO"}, f"DCG: removed {removed} rig(s)"

@@ -22,10 +22,13 @@ def _engine_specs():
 ENGINE_SPECS = _engine_specs()
 
 
-def _property(spec, flags):
-    """Return the bpy property for one engine OptionSpec."""
+def _property(spec, flags, update=None):
+    """Return the bpy property for one engine OptionSpec (`update`: Blender's callback when
+    it changes, or None)."""
     common = {"name": options.label(spec.name), "description": spec.description,
               "default": spec.default, "options": flags}
+    if update is not None:
+        common["update"] = update
     if spec.kind == "enum":
         return EnumProperty(items=spec.choices, **common)
     limits = {}
@@ -40,9 +43,17 @@ def _property(spec, flags):
                          **common)
 
 
-def engine_annotations(flags=frozenset()):
-    """Return name -> bpy property for every engine option."""
-    return {spec.name: _property(spec, set(flags)) for spec in ENGINE_SPECS}
+def engine_annotations(flags=frozenset(), updates=None):
+    """Return name -> bpy property for every engine option (`updates`: name -> callback)."""
+    updates = updates or {}
+    return {spec.name: _property(spec, set(flags), updates.get(spec.name))
+            for spec in ENGINE_SPECS}
+
+
+def _tau_changed(settings, context):
+    """The panel's Tau moved: a shown preview follows it (operators.retune_live_preview)."""
+    from . import operators  # imported here: operators imports this module
+    operators.retune_live_preview(context)
 
 
 def addon_annotations(flags=frozenset(), with_weights=True):
@@ -69,7 +80,8 @@ def setting_names(with_weights=True):
 class DCGRigSettings(bpy.types.PropertyGroup):
     """Settings of the DCG panel, the defaults of the DCG operators."""
 
-    __annotations__ = {**engine_annotations(), **addon_annotations()}
+    __annotations__ = {**engine_annotations(updates={"tau": _tau_changed}),
+                       **addon_annotations()}
 
 
 def settings(context):

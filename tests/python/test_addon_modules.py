@@ -1,4 +1,4 @@
-"""The add-on's modules that need no Blender (options, skinning, geometry, worker),
+"""The add-on's modules that need no Blender (options, skinning, geometry, worker, live),
 tested with plain Python so that their logic is checked without starting Blender."""
 
 import sys
@@ -9,7 +9,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
 
-from dcg_rig import geometry, options, skinning, worker  # noqa: E402
+from dcg_rig import geometry, live, options, skinning, worker  # noqa: E402
 
 import dcg  # noqa: E402
 
@@ -110,3 +110,23 @@ def test_skeleton_job_cancels():
     job.start()
     assert job.wait(60)
     assert job.cancelled and job.skeleton is None and job.error is None
+
+
+def test_the_kept_preview_is_reused_only_for_the_same_mesh_and_options(repo):
+    V, F = dcg.load_mesh(repo / "data" / "spot.obj")
+    options = {"samples": 1200, "target_faces": 5000, "tau": 0.85}
+    extractor = dcg.Extractor(V, F, **options)
+    extractor.skeleton()
+    live.remember("spot", live.fingerprint(V, F), options, extractor)
+    try:
+        moved = V.copy()
+        moved[0, 0] += 1e-6
+        assert live.matching("spot", live.fingerprint(moved, F), options) is None
+        assert live.matching("cow", live.fingerprint(V, F), options) is None
+        assert live.matching("spot", live.fingerprint(V, F), {**options, "samples": 900}) is None
+        assert live.matching("spot", live.fingerprint(V, F), {**options, "tau": 0.95}) is extractor
+        assert extractor.options["tau"] == 0.95  # retuned to the asked tau
+        live.forget()
+        assert live.kept_for("spot") is None
+    finally:
+        live.forget()
