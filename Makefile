@@ -11,7 +11,7 @@ OUT ?= out
 CMAKE_FLAGS ?=
 export DCG_MESHES ?= $(abspath ../shared/meshes)
 
-.PHONY: all deps build build-rig rig test addon wheel extension bench fuzz format clean
+.PHONY: all deps build build-rig rig test addon wheel extension bench bench-compare fuzz format clean
 
 all: build
 
@@ -70,25 +70,30 @@ addon: build
 	@mkdir -p $(OUT)
 	@$(PYTHON) scripts/make_addon_zip.py $(BUILD)/blender_scripts/addons/dcg_rig $(OUT)/dcg_rig.zip
 
-# Timings of every stage on every mesh of MESHES (folders or files), with CGAL's mean curvature
-# flow skeleton as the baseline: out/bench/report.md (and results.jsonl), with each skeleton's
+# Timings of every stage on every mesh of MESHES (folders or files), of the stress set (STRESS,
+# written by scripts/make_stress_set.py) and of RIGGED, with CGAL's mean curvature flow skeleton
+# as the baseline in the same run: out/bench/report.md (and results.jsonl), with each skeleton's
 # quality (ends, joints, cycles, inside % for ours and MCF's, stability under rotation, scale,
-# noise and another seed) and out/bench/contact_sheet.png (every mesh with its skeleton); the
+# noise and another seed) and out/bench/contact_sheet.png (every mesh with its skeleton); per
+# set, faces, parts, seconds, MCF's ratio, inside % by parts and the speed targets missed
+# (out/bench/stress.md), the same as JSON (out/bench/summary.json); the
 # whole pipeline on a 1.4M-face subdivided armadillo, time and peak RSS (out/bench/big.md);
 # then `dcg batch` models per minute with 1 and 2 workers: out/bench/batch.md; our skinning
 # weights against Blender's bone heat on the same armatures (out/bench/weights.md, and spot at
 # scales 0.01 and 100 in weights-scaled.md); on the artist-rigged characters of RIGGED, our
 # skeleton's chamfer distances to the artists' (out/bench/rig-quality.md) and our weights and
-# bone heat against the artists' weights on their skeletons (out/bench/weights-quality.md).
-# Not part of `make test`.
+# bone heat against the artists' weights on their skeletons (out/bench/weights-quality.md);
+# last, `make bench-compare`. Not part of `make test`.
 MESHES ?= ../shared/meshes
 RIGGED ?= $(DCG_MESHES)/rigged
+STRESS ?= $(OUT)/bench/stress
 # The mesh files of MESHES (folders expanded), for the scripts that take files.
 BENCH_FILES = $(sort $(foreach m,$(MESHES),$(if $(wildcard $(m)/.),$(wildcard $(addprefix $(m)/*.,obj off ply stl)),$(m))))
 bench: build
 	@cmake --build $(BUILD) --target dcg_bench -j$(JOBS)
+	$(PYTHON) scripts/make_stress_set.py --out $(STRESS)
 	$(PYTHON) scripts/bench.py --binary $(BUILD)/dcg_bench --pythonpath $(BUILD)/python \
-	  --out $(OUT)/bench/report.md $(MESHES)
+	  --public $(DCG_MESHES) --out $(OUT)/bench/report.md $(MESHES) $(STRESS) $(RIGGED)
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_big.py --mesh $(OUT)/bench/armadillo-1m.ply \
 	  --out $(OUT)/bench/big.md
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_batch.py --out $(OUT)/bench/batch.md $(MESHES)
@@ -100,6 +105,13 @@ bench: build
 	  --out $(OUT)/bench/rig-quality.md
 	$(BLENDER) -b --factory-startup --python-exit-code 1 --python scripts/bench_weights_quality.py \
 	  -- --pythonpath $(BUILD)/python --rigged $(RIGGED) --out $(OUT)/bench/weights-quality.md
+	$(PYTHON) scripts/bench_compare.py $(OUT)/bench/summary.json
+
+# out/bench/summary.json (of `make bench`) against scripts/bench_reference.json: per mesh our
+# time over MCF's in the same run, flagged when it grew by more than 25%; exit status 1 then.
+# A new reference: cp out/bench/summary.json scripts/bench_reference.json.
+bench-compare:
+	$(PYTHON) scripts/bench_compare.py $(OUT)/bench/summary.json
 
 clean:
 	rm -rf $(BUILD) $(OUT)

@@ -4,7 +4,9 @@
     /usr/bin/python3 scripts/bench.py [--binary build/dcg_bench] [--out out/bench/report.md]
                                       [--repeat 3] [--no-mcf] [--mcf-max-faces N]
                                       [--no-stability] [--stability-seed N]
-                                      [--pythonpath build/python] [--no-contact-sheet] [PATH ...]
+                                      [--pythonpath build/python] [--no-contact-sheet]
+                                      [--public ../shared/meshes] [--speed-out F] [--summary F]
+                                      [--no-parts] [--reuse-results] [PATH ...]
 
 PATH: mesh files or folders (default ../shared/meshes). The binary times every stage of the
 engine (the columns are whatever stages dcg::Extractor timed) and CGAL's mean curvature flow
@@ -15,6 +17,14 @@ points, cycles against the genus, the share inside the mesh for ours and for MCF
 whether ends and joints survive a random rotation, scale, 0.3% noise and another seed), and
 scripts/contact_sheet.py draws every mesh with its skeleton (contact_sheet.png; it needs the
 dcg package: --pythonpath). Standard library only here.
+
+Speed per set (make bench gives the public meshes, the stress set of scripts/make_stress_set.py
+and the rigged characters): scripts/mesh_parts.py counts every mesh's parts and, on meshes of
+several parts or open ones, measures the inside % by parts (parity over the whole is wrong
+there); stress.md (--speed-out) has, per folder, faces, parts, seconds per stage and in total,
+MCF's seconds and the ratio, both inside %s and the targets missed (1 s below 30k faces, 3 s up
+to 150k, MCF at least 2x our time on the closed one-part meshes of --public), then the misses
+with their slowest stage; summary.json (--summary) the same per mesh for scripts/bench_compare.py.
 """
 import argparse
 import datetime
@@ -33,6 +43,11 @@ ROOT = Path(__file__).resolve().parent.parent
 # matched by likely names (prongs, prong_features, scale_function, watershed, geodesics); the
 # report lists the stages that were counted, so a miss here shows.
 STAGES_0_3 = re.compile(r"^(prepare|voronoi_balls|domain_balls)$|prong|scale|watershed|geodesic")
+
+# The speed targets of issue 18 (stress.md): (faces below, our total under this many seconds),
+# and on closed one-part public meshes MCF's time at least MCF_FACTOR times ours.
+SPEED_LIMITS = [(30_000, 1.0), (150_000, 3.0)]
+MCF_FACTOR = 2.0
 
 # (what, mesh, limit in seconds): the targets of issue 3, on 2 cores.
 TARGETS = [
@@ -194,9 +209,11 @@ def quality_lines(rows):
         f"- Inside % = share of samples along the skeleton inside the input mesh by ray parity "
         f"(majority of 3 rays): every node and polyline point, plus a point each 0.5% of the "
         f"bounding-box diagonal along every polyline segment; MCF's skeleton sampled the same "
-        f"way (its vertices, and along its edges). 100% inside: ours on {of('inside')} closed "
-        f"meshes, MCF on {of('mcf_inside')} meshes it ran on. On open meshes ours is tested "
-        f"against the open input (in parentheses: parity means little there).",
+        f"way (its vertices, and along its edges). On a mesh of several parts or an open one, "
+        f"inside one of its parts by that part's winding number instead (scripts/mesh_parts.py:"
+        f" parity counts a sample where two parts overlap as outside). 100% inside: ours on "
+        f"{of('inside')} closed meshes, MCF on {of('mcf_inside')} meshes it ran on. On open "
+        f"meshes ours is tested against the open input (in parentheses).",
         f"- Stable = the same ends and joints after a random rotation, a scale 10^U(-2,2), a "
         f"move, 0.3% vertex noise and another engine seed (one more run per mesh, not timed; "
         f"draws seeded by the file name and --stability-seed, so they repeat): {of('stable')}.",
@@ -228,6 +245,197 @@ def mcf_lines(rows):
                          f"{fmt_s(r['mcf']['seconds'])} | {r['ratio']:.2f} | "
                          f"{1 / r['ratio']:.1f}x MCF's time | {cell(where)} |")
     return lines
+
+
+def read_parts(path):
+    """{mesh path: scripts/mesh_parts.py's record} ({} when absent)."""
+    try:
+        lines = Path(path).read_text().splitlines()
+    except OSError:
+        return {}
+    records = [json.loads(line) for line in lines if line.strip()]
+    return {r["path"]: r for r in records if "path" in r}
+
+
+def merge_parts(rows, parts):
+    """Puts each mesh's parts into its row ("parts", "closed_surface") and, where mesh_parts.py
+    measured it (several parts, or open), the inside % by parts in place of dcg_bench's parity
+    (kept as "inside_percent_parity")."""
+    for row in rows:
+        record = parts.get(row.get("path"))
+        if not record:
+            continue
+        row["parts"] = record.get("parts")
+        row["closed_surface"] = record.get("closed")
+        if record.get("inside_by") != "parts":
+            continue
+        row["inside_by"] = "parts"
+        for side, key in ((row.get("engine"), "inside_percent"),
+                          (row.get("mcf"), "mcf_inside_percent")):
+            if side and side.get("inside_percent") is not None:
+                side["inside_percent_parity"] = side["inside_percent"]
+                side["inside_percent"] = record.get(key)
+
+
+def set_name(row, public):
+    """"public" for a mesh of the public folder, else its folder's name ("stress", "rigged")."""
+    folder = Path(row.get("path", "")).parent
+    try:
+        if public and folder.resolve() == Path(public).resolve():
+            return "public"
+    except OSError:
+        pass
+    return folder.name or "."
+
+
+def time_limit(faces):
+    """The issue's time target for a mesh of `faces` faces: 1 s below 30k, 3 s up to 150k
+    (the target at 100k), None above."""
+    if faces is None:
+        return None
+    for most, limit in SPEED_LIMITS:
+        if faces < most:
+            return limit
+    return None
+
+
+def speed_misses(row, set_, manifest):
+    """[(target, measured, limit, by)] the mesh misses: its time limit, and on a closed
+    one-part public mesh MCF's time at least MCF_FACTOR times ours."""
+    misses = []
+    total, faces = row.get("total"), row.get("faces")
+    limit = time_limit(faces)
+    if total is not None and limit is not None and total >= limit:
+        misses.append((f"under {limit:g} s", f"{fmt_s(total)} s", f"{limit:g} s",
+                       f"+{total - limit:.2f} s ({total / limit:.1f}x)"))
+    info = manifest.get(row["mesh"], {})
+    closed = info.get("closed", "yes" if row.get("closed_surface") else "no") == "yes"
+    ratio = row.get("ratio")
+    if (set_ == "public" and closed and row.get("parts", 1) == 1 and ratio is not None
+            and ratio < MCF_FACTOR):
+        misses.append((f"{MCF_FACTOR:g}x faster than MCF", f"{ratio:.2f}x", f"{MCF_FACTOR:g}x",
+                       f"needs {MCF_FACTOR / ratio:.2f}x faster"))
+    return misses
+
+
+def slowest_stage(row):
+    stages = row.get("stages") or {}
+    if not stages or not row.get("total"):
+        return "-"
+    top = max(stages, key=stages.get)
+    return f"{top} {fmt_s(stages[top])} s ({stages[top] / row['total']:.0%})"
+
+
+def write_speed_report(path, meta, rows, args, stage_names, summary_path):
+    """out/bench/stress.md: per set (stress, public, rigged), every mesh's faces, parts,
+    seconds per stage and in total, MCF's seconds and the ratio, the inside % by parts, and
+    the targets each misses; then the misses with their slowest stage."""
+    manifest = read_manifests(rows)
+    out = ["# Speed on the stress set, the public meshes and the rigged characters", ""]
+    out += run_lines(meta, args)
+    out += [f"- Targets: our total under 1 s below 30k faces, under 3 s up to 150k (the 100k "
+            f"target); on closed one-part public meshes, {MCF_FACTOR:g}x faster than CGAL's MCF "
+            f"(MCF / ours at least {MCF_FACTOR:g}). Misses in **bold**, listed at the end.",
+            "- Our seconds: fastest of the runs (see report.md); MCF: one run in the same "
+            "process, on closed 2-manifold input only (several closed parts included). Ratio = "
+            "MCF seconds / ours.",
+            "- Inside % = the share of samples along the skeleton (nodes, polyline points, a "
+            "point each 0.5% of the diagonal) inside the input: by dcg_bench's ray parity on "
+            "one closed part, else inside one of the parts by winding number "
+            "(scripts/mesh_parts.py), for ours and for MCF's skeleton.",
+            f"- The same numbers as JSON: {Path(summary_path).name} (compare it with the "
+            "committed reference: scripts/bench_compare.py).", ""]
+    titles = {"public": "Public meshes", "stress": "Stress set (scripts/make_stress_set.py)",
+              "rigged": "Rigged characters"}
+    sets = []
+    for row in rows:
+        if row["set"] not in sets:
+            sets.append(row["set"])
+    header = ["mesh", "faces", "parts", *stage_names, "our total", "MCF", "ratio",
+              "inside % ours", "inside % MCF", "targets"]
+    all_misses = []
+    for set_ in sets:
+        out += [f"## {titles.get(set_, set_)}", ""]
+        out.append("| " + " | ".join(header) + " |")
+        out.append("|" + "|".join("---" if i in (0, len(header) - 1) else "---:"
+                                  for i in range(len(header))) + "|")
+        for row in (r for r in rows if r["set"] == set_):
+            stages = row.get("stages") or {}
+            mcf = row.get("mcf") or {}
+            misses = speed_misses(row, set_, manifest)
+            all_misses += [(row, set_, miss) for miss in misses]
+            total = fmt_s(row.get("total"))
+            if any(m[0].startswith("under") for m in misses):
+                total = f"**{total}**"
+            ratio = row.get("ratio")
+            ratio_cell = f"{ratio:.2f}" if ratio is not None else "-"
+            if any("MCF" in m[0] for m in misses):
+                ratio_cell = f"**{ratio_cell}**"
+            if row.get("error"):
+                verdict = f"ERROR: {row['error']}"
+            elif mcf.get("status") not in (None, "ok") and not misses:
+                verdict = f"met (no MCF: {mcf.get('note', '').split(' (')[0]})"
+            else:
+                verdict = "; ".join(f"**missed** {m[0]}" for m in misses) or "met"
+            faces = row.get("faces")
+            cells = [row["mesh"], f"{faces:,}" if faces is not None else "-",
+                     row.get("parts", "-"), *[fmt_s(stages.get(n)) for n in stage_names], total,
+                     fmt_s(mcf.get("seconds")), ratio_cell,
+                     fmt_pct((row.get("engine") or {}).get("inside_percent")),
+                     fmt_pct(mcf.get("inside_percent")), verdict]
+            out.append("| " + " | ".join(cell(c) for c in cells) + " |")
+        out.append("")
+    out += ["## Misses", ""]
+    if not all_misses:
+        out += ["Every mesh meets its targets.", ""]
+    else:
+        out += ["| mesh | set | target | measured | limit | by | slowest stage |",
+                "|---|---|---|---:|---:|---|---|"]
+        for row, set_, (what, measured, limit, by) in all_misses:
+            out.append("| " + " | ".join(cell(c) for c in [
+                row["mesh"], set_, what, measured, limit, by, slowest_stage(row)]) + " |")
+        out.append("")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(out) + "\n")
+
+
+def rounded(value, digits=6):
+    return float(f"{value:.{digits}g}") if isinstance(value, (int, float)) else value
+
+
+def summary(meta, rows, args):
+    """The JSON summary scripts/bench_compare.py reads: per mesh ("set/mesh"), faces, parts,
+    total and per-stage seconds, MCF seconds and ours / MCF, the inside %s, the error."""
+    meshes = {}
+    for row in rows:
+        mcf = row.get("mcf") or {}
+        total, mcf_seconds = row.get("total"), mcf.get("seconds")
+        meshes[f"{row['set']}/{row['mesh']}"] = {
+            "set": row["set"], "mesh": row["mesh"], "faces": row.get("faces"),
+            "parts": row.get("parts"),
+            "total": rounded(total),
+            "stages": {k: rounded(v) for k, v in (row.get("stages") or {}).items()},
+            "mcf_seconds": rounded(mcf_seconds),
+            "ours_over_mcf": rounded(total / mcf_seconds) if total and mcf_seconds else None,
+            "inside_percent": rounded((row.get("engine") or {}).get("inside_percent"), 4),
+            "mcf_inside_percent": rounded(mcf.get("inside_percent"), 4),
+            "error": row.get("error")}
+    return {"format": "dcg-bench-summary/1", "machine": machine(), "commit": git_commit(),
+            "date": datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z"),
+            "load": list(args.load) if args.load else None, "repeat": meta.get("repeat"),
+            "meshes": meshes}
+
+
+def summary_json(data):
+    """The summary as JSON text, one line per mesh (a reference that diffs line by line)."""
+    head = {k: v for k, v in data.items() if k != "meshes"}
+    lines = ["{"] + [f" {json.dumps(k)}: {json.dumps(v)}," for k, v in head.items()]
+    meshes = list(data["meshes"].items())
+    lines.append(' "meshes": {')
+    lines += [f"  {json.dumps(k)}: {json.dumps(v)}" + ("," if i + 1 < len(meshes) else "")
+              for i, (k, v) in enumerate(meshes)]
+    lines += [" }", "}"]
+    return "\n".join(lines) + "\n"
 
 
 def stages_0_3(row):
@@ -270,16 +478,11 @@ def target_lines(rows, stage_names):
     return lines, notes
 
 
-def write_report(path, meta, rows, args, command):
-    stage_names = []
-    for row in rows:
-        for name in row.get("stages") or {}:
-            if name not in stage_names:
-                stage_names.append(name)
-    out = ["# DCG benchmark", ""]
-    out.append(f"- Machine: {machine()}")
-    out.append(f"- Date: {datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')}")
-    out.append(f"- Commit: {git_commit()}")
+def run_lines(meta, args):
+    """The reports' first lines: machine, date, commit, load, build, engine options."""
+    out = [f"- Machine: {machine()}",
+           f"- Date: {datetime.datetime.now().astimezone().strftime('%Y-%m-%d %H:%M %Z')}",
+           f"- Commit: {git_commit()}"]
     if args.load:
         out.append(f"- Load average (1 min) before / after the run: {args.load[0]:.2f} / "
                    f"{args.load[1]:.2f} (other work on the machine skews timings)")
@@ -289,6 +492,16 @@ def write_report(path, meta, rows, args, command):
     options = meta.get("options", {})
     out.append(f"- Engine options: repair={meta.get('repair', '?')}, "
                + ", ".join(f"{k}={v:g}" for k, v in options.items()))
+    return out
+
+
+def write_report(path, meta, rows, args, command):
+    stage_names = []
+    for row in rows:
+        for name in row.get("stages") or {}:
+            if name not in stage_names:
+                stage_names.append(name)
+    out = ["# DCG benchmark", ""] + run_lines(meta, args)
     out.append(f"- Our times: fastest of {meta.get('repeat', 1)} run(s) per mesh (fresh "
                "`dcg::Extractor` each), per-stage seconds as the Extractor timed them. MCF: "
                "`CGAL::extract_mean_curvature_flow_skeleton` with default parameters, one run, "
@@ -368,6 +581,19 @@ def main():
                         help="where the dcg package is, for the contact sheet")
     parser.add_argument("--no-contact-sheet", action="store_true",
                         help="do not draw contact_sheet.png and contact_sheet_mcf.png")
+    parser.add_argument("--public", default=str((ROOT / ".." / "shared" / "meshes").resolve()),
+                        help="the public meshes' folder: its closed one-part meshes have the "
+                             "2x-MCF target (default ../shared/meshes)")
+    parser.add_argument("--speed-out", default=None,
+                        help="the speed report per set (default: stress.md beside --out)")
+    parser.add_argument("--summary", default=None,
+                        help="the JSON summary for scripts/bench_compare.py (default: "
+                             "summary.json beside --out)")
+    parser.add_argument("--no-parts", action="store_true",
+                        help="skip scripts/mesh_parts.py (parts and the inside %% by parts)")
+    parser.add_argument("--reuse-results", action="store_true",
+                        help="do not run dcg_bench: write the reports from the results.jsonl "
+                             "and skeletons/ of an earlier run")
     args = parser.parse_args()
 
     paths = args.paths or [str((ROOT / ".." / "shared" / "meshes").resolve())]
@@ -375,7 +601,7 @@ def main():
     results = report.with_name("results.jsonl")
     report.parent.mkdir(parents=True, exist_ok=True)
     skeletons = report.with_name("skeletons")
-    if skeletons.is_dir():
+    if skeletons.is_dir() and not args.reuse_results:
         for old in skeletons.glob("*.json"):
             old.unlink()
     command = [args.binary, "--repeat", str(args.repeat), "--output", str(results),
@@ -389,17 +615,18 @@ def main():
     for option in args.option:
         command += ["--option", option]
     command += paths
-    print("bench:", " ".join(command), file=sys.stderr, flush=True)
     load_before = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
-    try:
-        status = subprocess.run(command).returncode  # progress goes straight to the terminal
-    except OSError as e:
-        sys.exit(f"bench: cannot run {args.binary}: {e} (build it: "
-                 "cmake --build build --target dcg_bench)")
-    if status != 0:
-        sys.exit(f"bench: {args.binary} exited with status {status}")
+    if not args.reuse_results:
+        print("bench:", " ".join(command), file=sys.stderr, flush=True)
+        try:
+            status = subprocess.run(command).returncode  # progress goes straight to the terminal
+        except OSError as e:
+            sys.exit(f"bench: cannot run {args.binary}: {e} (build it: "
+                     "cmake --build build --target dcg_bench)")
+        if status != 0:
+            sys.exit(f"bench: {args.binary} exited with status {status}")
 
-    if load_before is not None:
+    if load_before is not None and not args.reuse_results:
         args.load = (load_before, os.getloadavg()[0])
     else:
         args.load = None
@@ -412,11 +639,27 @@ def main():
             meta = record
         elif record.get("type") == "mesh":
             rows.append(record)
+    names = [row["mesh"] for row in rows]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        print(f"bench: the same file name in several folders ({', '.join(twice)}): their "
+              "skeleton files in skeletons/ overwrite each other", file=sys.stderr)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (args.pythonpath, env.get("PYTHONPATH")) if p)
+    if not args.no_parts:
+        # Parts, and the inside % by parts where dcg_bench's parity over the whole is wrong.
+        parts_file = report.with_name("parts.jsonl")
+        done = subprocess.run([sys.executable, str(ROOT / "scripts" / "mesh_parts.py"),
+                               "--results", str(results), "--out", str(parts_file)],
+                              env=env).returncode
+        if done != 0:
+            print(f"bench: no parts (scripts/mesh_parts.py exited with {done})", file=sys.stderr)
+        else:
+            merge_parts(rows, read_parts(parts_file))
+    for row in rows:
+        row["set"] = set_name(row, args.public)
     args.sheets = []  # the contact sheets drawn
     if not args.no_contact_sheet:
-        env = dict(os.environ)
-        env["PYTHONPATH"] = os.pathsep.join(p for p in (args.pythonpath,
-                                                        env.get("PYTHONPATH")) if p)
         for which, name in (("ours", "contact_sheet.png"), ("mcf", "contact_sheet_mcf.png")):
             sheet = report.with_name(name)
             drawn = subprocess.run([sys.executable, str(ROOT / "scripts" / "contact_sheet.py"),
@@ -428,7 +671,15 @@ def main():
                 break
             args.sheets.append(name)
     write_report(report, meta, rows, args, command)
-    print(f"bench: wrote {report} ({len(rows)} meshes) and {results}", file=sys.stderr)
+    speed = Path(args.speed_out) if args.speed_out else report.with_name("stress.md")
+    summary_path = Path(args.summary) if args.summary else report.with_name("summary.json")
+    stage_names = []
+    for row in rows:
+        stage_names += [n for n in row.get("stages") or {} if n not in stage_names]
+    write_speed_report(speed, meta, rows, args, stage_names, summary_path)
+    summary_path.write_text(summary_json(summary(meta, rows, args)))
+    print(f"bench: wrote {report}, {speed}, {summary_path} ({len(rows)} meshes) and {results}",
+          file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -1,12 +1,15 @@
 """Shared fixtures: the repository, the public meshes (DCG_MESHES) and small synthetic shapes."""
 
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+sys.path.append(str(REPO / "scripts"))  # the shapes of the stress set
+from make_stress_set import uv_sphere  # noqa: E402,F401 - the tests import it from here
 
 
 @pytest.fixture(scope="session")
@@ -41,32 +44,6 @@ def cube(open_faces: int = 0):
         [0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
         [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]], dtype=np.int64)
     return V, F[: len(F) - open_faces]
-
-
-def uv_sphere(rings: int = 16, segments: int = 24, radius: float = 1.0):
-    """A closed, outward-oriented UV sphere."""
-    verts = [[0, 0, radius]]
-    for i in range(1, rings):
-        theta = np.pi * i / rings
-        for j in range(segments):
-            phi = 2 * np.pi * j / segments
-            verts.append([radius * np.sin(theta) * np.cos(phi),
-                          radius * np.sin(theta) * np.sin(phi), radius * np.cos(theta)])
-    verts.append([0, 0, -radius])
-    faces = []
-    bottom = len(verts) - 1
-
-    def ring(i, j):
-        return 1 + (i - 1) * segments + j % segments
-
-    for j in range(segments):
-        faces.append([0, ring(1, j), ring(1, j + 1)])
-        faces.append([bottom, ring(rings - 1, j + 1), ring(rings - 1, j)])
-    for i in range(1, rings - 1):
-        for j in range(segments):
-            a, b, c, d = ring(i, j), ring(i, j + 1), ring(i + 1, j), ring(i + 1, j + 1)
-            faces += [[a, c, b], [b, c, d]]
-    return np.array(verts, dtype=float), np.array(faces, dtype=np.int64)
 
 
 @pytest.fixture
