@@ -7,8 +7,10 @@
 Per character (NAME.obj + NAME.rig.txt): dcg.extract_skeleton with the default options, its
 bones as the add-on plans them (dcg.bones.plan_bones, default bone_detail; our joints are the
 bones' heads and tails) against the artist's joints and parent-child bones: CD-J2J, CD-J2B and
-CD-B2B (dcg.metrics.skeleton_metrics) in % of the mesh's longest bounding-box side, the bone
-counts and the engine's method. Writes the Markdown table to --out (and prints it) and one
+CD-B2B (dcg.metrics.skeleton_metrics) in % of the mesh's longest bounding-box side, how far
+our paired bones (`.L` / `.R`) are from mirroring each other across the plan's mirror plane
+(dcg.metrics.mirror_error, same unit; dcg.bones.plan_plane), the bone counts and the engine's
+method. Writes the Markdown table to --out (and prints it) and one
 JSON line per character to the same path with .jsonl.
 """
 import argparse
@@ -30,7 +32,9 @@ REFERENCES = [
 METRICS = ["cd_j2j", "cd_j2b", "cd_b2b"]
 COLUMNS = [("character", "name", ""), ("CD-J2J %", "cd_j2j", ".3f"),
            ("CD-J2B %", "cd_j2b", ".3f"), ("CD-B2B %", "cd_b2b", ".3f"),
-           ("our bones", "bones", "d"), ("their bones", "their_bones", "d"),
+           ("mirror mean %", "mirror_mean", ".3f"), ("mirror max %", "mirror_max", ".3f"),
+           ("pairs", "pairs", "d"), ("our bones", "bones", "d"),
+           ("their bones", "their_bones", "d"),
            ("method", "method", ""), ("seconds", "seconds", ".2f")]
 
 
@@ -49,6 +53,11 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
            "their_bones": len(rig.joints), "method": skeleton.method, "seconds": seconds}
     row.update(metrics.skeleton_metrics(V, plan["heads"], plan["tails"], rig.joints,
                                         rig.parents))
+    plane = bones.plan_plane(skeleton)
+    row.update(pairs=0, mirror_mean=None, mirror_max=None)
+    if plane is not None:
+        row.update(metrics.mirror_error(V, plan["names"], plan["heads"], plan["tails"],
+                                        plane.normal, plane.offset))
     return row
 
 
@@ -70,7 +79,8 @@ def main():
     for name, obj, rig_path in characters:
         rows.append(measure(name, obj, rig_path, args.bone_detail))
         print(f"bench_rig_quality: {rows[-1]}", file=sys.stderr, flush=True)
-    mean = quality_tables.mean_row(rows, METRICS + ["bones", "their_bones", "seconds"])
+    mean = quality_tables.mean_row(rows, METRICS + ["mirror_mean", "mirror_max", "pairs", "bones",
+                                                    "their_bones", "seconds"])
     mean["name"] = f"**mean of {len(rows)}**"
     lines = quality_tables.header("Skeleton quality: our bones against the artists' skeletons")
     lines += [f"Characters of `{args.rigged}`. Ours: `dcg.extract_skeleton` (defaults), bones of "
@@ -78,6 +88,10 @@ def main():
               "bones' distinct heads and tails. Theirs: the rig's joints, bones from each parent "
               "to each child. Chamfer distances (`dcg.metrics`) in % of the mesh's longest "
               "bounding-box side; CD-B2B samples both bone sets 0.5% of that side apart. "
+              "Mirror: the distance from each `.L` bone's head and tail mirrored across the "
+              "plan's mirror plane (`dcg.bones.plan_plane`) to its `.R` partner's, mean and "
+              "largest, same unit ('-' without a mirror plane; the mean row over the "
+              "characters that have one); pairs: the pairs of bones. "
               "'their bones': one per joint (the weights protocol).", ""]
     lines += quality_tables.table(COLUMNS, rows + [mean])
     lines += ["", "Reference rows (other sets: MagicArticulate's Articulation-XL / ModelsResource "

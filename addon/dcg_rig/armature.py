@@ -2,8 +2,10 @@
 
 The bones come from the engine package's planner (`dcg.bones.plan_bones`, the one
 `dcg batch` uses too) in world space; the armature object sits at the
-mesh's world transform, so its rest pose matches the skeleton exactly. Bones are handled by
-name across mode switches (EditBone references die when edit mode ends).
+mesh's world transform, so its rest pose matches the skeleton exactly. Each bone's roll turns
+its local Z axis onto the plan's `z_axis` (carried into the armature's space, so that it
+holds under any object transform, mirrors included). Bones are handled by name across mode
+switches (EditBone references die when edit mode ends).
 """
 
 import bpy
@@ -61,6 +63,7 @@ def build_armature(context, mesh_obj, plan):
                 bone = data.edit_bones[spec.name]
                 bone.parent = data.edit_bones[spec.parent]
                 bone.use_connect = spec.use_connect
+        _set_rolls(data, plan, to_local[:3, :3])
     finally:
         bpy.ops.object.mode_set(mode="OBJECT")
         view_layer.objects.active = mesh_obj
@@ -71,6 +74,15 @@ def build_armature(context, mesh_obj, plan):
         bone["dcg_link"] = spec.link
     _color_bones(arm_obj, plan)
     return arm_obj
+
+
+def _set_rolls(data, plan, to_local):
+    """Roll each edit bone so that its Z axis is the plan's `z_axis` taken into the armature's
+    space by the 3 x 3 `to_local` (so that in world space it is `z_axis` again; align_roll
+    takes the part normal to the bone). After parenting: connecting may move a head."""
+    for spec in plan:
+        z_axis = to_local @ np.asarray(spec.z_axis, dtype=float)
+        data.edit_bones[spec.name].align_roll(z_axis.tolist())
 
 
 def _color_bones(arm_obj, plan):

@@ -2,7 +2,9 @@
 .weights.npz and `dcg.skin_weights(V, F, skeleton)` (no `bpy`: plain pytest tests it).
 
     plan = dcg.bones.plan_bones(skeleton, bone_detail=0.5)   # [BoneSpec], parents first
-    arrays = dcg.bones.bone_arrays(plan)   # names, heads, tails, parents (-1), links, kinds
+    arrays = dcg.bones.bone_arrays(plan)   # names, heads, tails, parents (-1), links, kinds,
+                                           # z_axes, rolls
+    plane = dcg.bones.plan_plane(skeleton) # the mirror plane of the plan (or None)
 
 One chain of bones per limb: a chain of skeleton links through connection nodes (nodes
 of degree 2), from a branching node or the root to the next branching node or an end, so a
@@ -22,20 +24,35 @@ Bone kinds: a bone whose tail is a skeleton node takes that node's kind ("end", 
 "connection"); a bone whose tail is an inner polyline point is a "connection" (such points
 have two neighbours, like connection nodes); `link` is the link of the bone's last
 segment. Names are the kind plus a counter per kind, in creation order: ``end.001``,
-``joint.001``, ``connection.012``. When the skeleton has a mirror plane (`mirror_plane`,
-tolerant of small asymmetries) through its root, the limbs on either side that mirror each
-other (`limb_sides`) get the same number of bones and Blender's side suffixes, the two
-chains sharing their counters bone by bone (``connection.004.L`` / ``connection.004.R``,
-``end.002.L`` / ``end.002.R``: what X-Axis Mirror, Symmetrize and Paste Pose Flipped pair);
-.L is the side the plane's normal points to (its largest component positive: +X for a
-model mirrored across x = 0). The middle's limbs and every limb of a shape with no mirror
-plane keep the plain names.
+``joint.001``, ``connection.012``.
+
+Symmetry (`dcg.symmetry`): when the skeleton has a mirror plane through its root, the limbs
+on either side that mirror each other (and end at nodes of one kind) pair: both get the same
+joints, fitted once on their mean, one limb's the mirror images of the other's, and
+Blender's side suffixes, the two chains sharing their counters bone by bone
+(``connection.004.L`` / ``connection.004.R``, ``end.002.L`` / ``end.002.R``: what X-Axis
+Mirror, Symmetrize and Paste Pose Flipped pair; a .R bone is named after its .L partner).
+The middle's joints (its limbs', the root) lie on the plane. No joint moves farther than
+symmetry.MIRROR_REACH radii for that, so a pair that differs more mirrors only approximately.
+.L is the side the plane's normal points to (its largest component positive: +X for a model
+mirrored across x = 0). The middle's limbs and every limb of a shape with no mirror plane
+keep the plain names, and a shape with no mirror plane keeps its joints where they were.
+
+Rolls (`dcg.rolls`): each bone's local Z axis (`z_axis`) is the part normal to it of its
+chain's reference direction (where the limb bends to), so it turns one way along the chain;
+a .R chain's reference is the mirror image of its .L partner's and a middle chain's lies in
+the mirror plane, so paired bones' axes mirror. `roll` is Blender's EditBone.roll for that
+axis in the skeleton's coordinates (the add-on aligns each bone's roll to `z_axis` in the
+armature's own space instead, which also holds under object transforms).
 """
 
 from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
+
+from . import rolls, symmetry
+from .symmetry import MIRROR_TOLERANCE, limb_sides, mirror_plane  # noqa: F401 (this API)
 
 KINDS = ("end", "joint", "connection")
 #: The default `bone_detail` (the add-on's panel, its CLI and `dcg batch` start from it).
@@ -47,9 +64,6 @@ BONES_PER_LINK = 5.0
 NARROWING = 1.0
 #: An end bone's tail stops this many radii (at its head) short of the end node.
 END_INSET = 1.0
-#: A mirror plane is accepted when the skeleton's nodes mirrored across it lie this close to
-#: nodes (mean, in bounding-box diagonals); limbs' sides and pairs use the same tolerance.
-MIRROR_TOLERANCE = 0.03
 
 
 @dataclass
@@ -66,6 +80,25 @@ class BoneSpec:
     link: int                  #: skeleton link of the bone's last segment
     head_radius: float         #: skeleton radius at the head (distance to the surface)
     tail_radius: float         #: skeleton radius at the tail
+    z_axis: np.ndarray         #: 3 the bone's local Z axis (unit, normal to it; dcg.rolls)
+    roll: float                #: Blender's roll (radians) that gives that Z axis, here
+
+
+@dataclass
+class LimbJoints:
+    """One limb's joints before its bones are made (#J = its bones + 1, first to last)."""
+
+    original: np.ndarray       #: #J by 3 where the limb's own polyline has them
+    target: np.ndarray         #: #J by 3 where symmetry wants them (`original` without)
+    radii: np.ndarray          #: #J skeleton radius at each joint (a pair's: the two's mean)
+    own_radii: np.ndarray      #: #J the limb's own radius there (how far a joint may move)
+    nodes: np.ndarray          #: #J skeleton node at each joint, -1 between nodes
+    links: np.ndarray          #: #J-1 skeleton link of each bone's last segment
+    points: np.ndarray = None  #: #J by 3 where they go (symmetrize; `original` until then)
+
+    def __post_init__(self):
+        if self.points is None:
+            self.points = np.array(self.original, dtype=float)
 
 
 def bone_count(links, segments, bone_detail):
@@ -228,40 +261,223 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL):
     `skeleton` needs positions (#N by 3), kinds (#N), radii (#N), links (#L by 2),
     polylines (#L arrays, from links[l, 0] to links[l, 1]) and root. One chain of bones per
     limb (see `limbs`), `bone_count` bones (set by `bone_detail`) with their joints at the
-    limb's articulations (`articulations`). Segments shorter than 1e-6 of the skeleton's
-    size are merged away (Blender deletes zero-length bones).
+    limb's articulations (`articulations`); with a mirror plane the plan mirrors itself
+    (`symmetrize`). Each bone's roll comes from its chain (`dcg.rolls`). Segments shorter
+    than 1e-6 of the skeleton's size are merged away (Blender deletes zero-length bones).
     """
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    kinds = [str(k) for k in skeleton.kinds]
     extent = np.ptp(positions, axis=0) if len(positions) else np.zeros(3)
     min_length = 1e-6 * max(float(np.linalg.norm(extent)), 1e-12)
-    degree = _degrees(skeleton)
-    name_of = _namer()
-    tail_bone = {}  # node -> name of the bone whose tail is that node
-    bones = []
     chains = limbs(skeleton)
     polylines = [limb_polyline(skeleton, limb) for limb in chains]
-    sides = limb_sides(skeleton, [polyline[0] for polyline in polylines])
+    plane, sides = _symmetry(skeleton, chains, polylines)
     segments = [len(polyline[0]) - 1 for polyline in polylines]
     wanted = _paired_counts([bone_count(len(limb), count, bone_detail)
                              for limb, count in zip(chains, segments)], segments, sides)
-    for limb, (points, nodes, segment_links, radii), (side, pair), count in zip(
-            chains, polylines, sides, wanted):
-        keep = _drop_short(points, articulations(points, radii, count), min_length)
+    joints = limb_joints(plane, polylines, sides, wanted, min_length)
+    if plane is not None:
+        symmetrize(plane, skeleton, chains, sides, joints)
+    return _chain_bones(skeleton, chains, sides, joints, _references(plane, positions, sides,
+                                                                     joints))
+
+
+def plan_plane(skeleton):
+    """The plane (a symmetry.Plane) that plan_bones mirrors the bones of `skeleton` across,
+    or None when it has no mirror plane: the skeleton's (symmetry.skeleton_plane) fitted to
+    the limbs that pair across it (`symmetry.fitted_plane`)."""
+    chains = limbs(skeleton)
+    return _symmetry(skeleton, chains, [limb_polyline(skeleton, limb) for limb in chains])[0]
+
+
+def _symmetry(skeleton, chains, polylines):
+    """(plane, sides): the plan's mirror plane (see plan_plane) and the (side, pair) of each
+    limb (symmetry.pair_limbs across the skeleton's plane; limbs pair when they end at nodes
+    of one kind)."""
+    plane = symmetry.skeleton_plane(skeleton)
+    sides = symmetry.pair_limbs(plane, skeleton, [polyline[0] for polyline in polylines],
+                                [limb[-1][2] for limb in chains])
+    if plane is not None:
+        plane = _fitted_plane(plane, polylines, sides)
+    return plane, sides
+
+
+def _fitted_plane(plane, polylines, sides):
+    """symmetry.fitted_plane of the paired limbs and the middle's polyline points."""
+    limb_pairs = [(polylines[i][0], polylines[j][0]) for i, j in _partners(sides).items()]
+    middle = [polylines[i][0] for i, (side, _) in enumerate(sides) if side is None]
+    return symmetry.fitted_plane(plane, limb_pairs, np.concatenate([np.zeros((0, 3))] + middle))
+
+
+def _partners(sides):
+    """{i: j} for each pair of limbs, i the .L limb and j its .R partner."""
+    right = {pair: j for j, (side, pair) in enumerate(sides) if side == "R"}
+    return {i: right[pair] for i, (side, pair) in enumerate(sides) if side == "L"}
+
+
+def limb_joints(plane, polylines, sides, counts, min_length):
+    """Return a LimbJoints per limb (polylines: limb_polyline's per limb; sides: (side, pair)
+    per limb; counts: bones per limb). A limb of the middle or of a shape without a mirror
+    plane gets its own articulations; the two limbs of a pair the articulations of their mean
+    (`symmetry.mean_polyline`): the .L limb's joints there and the .R limb's their mirror
+    images, both as targets for `symmetrize`, the joints' own places as originals."""
+    joints = [None] * len(polylines)
+    for i, j in _partners(sides).items():
+        joints[i], joints[j] = _paired_joints(plane, polylines[i], polylines[j], counts[i],
+                                              min_length)
+    for i, (points, nodes, segment_links, radii) in enumerate(polylines):
+        if joints[i] is None:
+            keep = np.array(_drop_short(points, articulations(points, radii, counts[i]),
+                                        min_length))
+            joints[i] = LimbJoints(points[keep], points[keep], radii[keep], radii[keep],
+                                   nodes[keep], segment_links[keep[1:] - 1])
+    return joints
+
+
+def _paired_joints(plane, left, right, count, min_length):
+    """(LimbJoints of the .L limb, of the .R limb) of a pair (see limb_joints). The joints are
+    the articulations of the pair's mean at equal fractions of arc length (both limbs' shapes
+    count alike there); their targets are the midpoints of each .L joint and the mirror image
+    of the .R limb's point nearest to its own (so that a joint moves across its limb, not
+    along it), and the mirror images of those."""
+    points_l, nodes_l, links_l, radii_l = left
+    points_r, nodes_r, links_r, radii_r = right
+    ends = (points_l, radii_l), (points_r, radii_r)
+    shape, shape_radii = symmetry.mean_polyline(plane, *ends, symmetry.arc_fractions(points_l))
+    keep = np.array(_drop_short(shape, articulations(shape, shape_radii, count), min_length))
+    where = symmetry.nearest_fractions(plane, points_l, points_r)
+    mean, radii = symmetry.mean_polyline(plane, *ends, where)
+    at_r, where = symmetry.arc_fractions(points_r), where[keep]
+    first = LimbJoints(points_l[keep], mean[keep], radii[keep], radii_l[keep], nodes_l[keep],
+                       links_l[keep[1:] - 1])
+    second = LimbJoints(symmetry.resample(points_r, at_r, where), plane.reflect(mean[keep]),
+                        radii[keep], symmetry.resample(radii_r, at_r, where),
+                        _nodes_at(where, at_r, nodes_r), _links_at(where[1:], at_r, links_r))
+    return first, second
+
+
+def _nodes_at(where, at, nodes):
+    """The node at each fraction of arc length `where` (0 first, 1 last) of a limb whose
+    points lie at the fractions `at` with `nodes` (-1 between nodes): its end nodes at the
+    ends; between them the nearest inner point's node when it lies within a quarter of the
+    points' mean spacing, else -1."""
+    where = np.asarray(where, dtype=float)
+    result = np.full(len(where), -1, dtype=np.int64)
+    inner = at[1:-1]
+    if len(inner) and len(where) > 2:
+        nearest = np.abs(inner[None, :] - where[1:-1, None]).argmin(axis=1)
+        close = np.abs(inner[nearest] - where[1:-1]) <= 0.25 / max(len(at) - 1, 1)
+        result[1:-1] = np.where(close, nodes[1:-1][nearest], -1)
+    result[0], result[-1] = nodes[0], nodes[-1]
+    return result
+
+
+def _links_at(where, at, segment_links):
+    """The link of the segment that ends at or just after each fraction `where` (> 0)."""
+    segment = np.clip(np.searchsorted(at, where, side="left") - 1, 0, len(segment_links) - 1)
+    return np.asarray(segment_links)[segment]
+
+
+def symmetrize(plane, skeleton, chains, sides, joints):
+    """Move the joints (LimbJoints per limb, in place: `points`) so that the plan mirrors
+    itself across `plane`: the nodes two paired limbs start or end at halfway to their
+    partner's mirror image, those of the middle (other limbs' first and branching nodes, the
+    root) onto the plane; a pair's other joints to their targets (limb_joints), the middle's
+    onto the plane. A joint moves at most MIRROR_REACH radii (its own limb's radius there;
+    an end's tip: the radius at its bone's head, by which END_INSET keeps the tail inside) and
+    only as far as that on the way to a partner; a joint of the middle that the plane is
+    farther from stays. Each limb then starts (and, but at a tip, ends) where its nodes went."""
+    degree = _degrees(skeleton)
+    nodes = _symmetric_nodes(plane, skeleton, chains, sides)
+    reach = symmetry.MIRROR_REACH
+    for k, (limb, limb_points) in enumerate(zip(chains, joints)):
+        allowed = reach * np.asarray(limb_points.own_radii, dtype=float)
+        if len(allowed) > 1:
+            allowed[-1] = reach * limb_points.own_radii[-2]  # a tip: see above
+        if sides[k][0] is not None:
+            limb_points.points = symmetry.settle(limb_points.original, limb_points.target,
+                                                 allowed)
+        else:
+            limb_points.points = symmetry.onto_plane(plane, limb_points.original, allowed)
+        start, end = limb[0][1], limb[-1][2]
+        limb_points.points[0] = nodes[start]
+        if degree[end] != 1:
+            limb_points.points[-1] = nodes[end]
+
+
+def _symmetric_nodes(plane, skeleton, chains, sides):
+    """{node: where it goes} for the nodes limbs start at or branch at (see symmetrize)."""
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    radii = symmetry.MIRROR_REACH * np.asarray(skeleton.radii, dtype=float)
+    pairs = []
+    for i, j in _partners(sides).items():
+        pairs += [(chains[i][0][1], chains[j][0][1]), (chains[i][-1][2], chains[j][-1][2])]
+    partner = symmetry.node_partners(pairs)
+    result = {}
+    for node, other in partner.items():
+        if node != other:
+            target = (positions[node] + plane.reflect(positions[other])) / 2.0
+            result[node] = symmetry.settle(positions[node], target, radii[node])
+    ends = [node for limb in chains for node in (limb[0][1], limb[-1][2])]
+    for node in ends:
+        if node not in result:
+            result[node] = symmetry.onto_plane(plane, positions[node], radii[node])
+    return result
+
+
+def _references(plane, positions, sides, joints):
+    """Each limb's roll reference (dcg.rolls.chain_reference): a .R limb's the mirror image of
+    its .L partner's, a limb of the middle's kept in the mirror plane."""
+    side, up = rolls.skeleton_frame(positions, plane)
+    references = [rolls.chain_reference(limb_points.points, side, up,
+                                        plane if limb_side is None else None)
+                  for limb_points, (limb_side, _) in zip(joints, sides)]
+    for i, j in _partners(sides).items():
+        references[j] = plane.reflect_direction(references[i])
+    return references, side, up
+
+
+def _chain_bones(skeleton, chains, sides, joints, frame):
+    """The BoneSpecs of the limbs' chains (joints: LimbJoints per limb, final), in limb order:
+    named (a .R bone after its .L partner, so that the names pair even where their nodes'
+    kinds would not), parented, with END_INSET tails and each chain's rolls (frame: what
+    _references returns)."""
+    references, side_axis, up = frame
+    kinds = [str(k) for k in skeleton.kinds]
+    degree = _degrees(skeleton)
+    bone_kinds = [[kinds[n] if n >= 0 else "connection" for n in limb_points.nodes[1:]]
+                  for limb_points in joints]
+    name_kinds = list(bone_kinds)
+    for i, j in _partners(sides).items():
+        name_kinds[j] = name_kinds[i]
+    name_of = _namer()
+    tail_bone = {}  # node -> name of the bone whose tail is that node
+    bones = []
+    for k, (limb, (side, pair), limb_points) in enumerate(zip(chains, sides, joints)):
+        heads, tails = _limb_segments(limb_points, kinds, degree)
+        z_axes = rolls.z_axes(heads, tails, references[k], side_axis, up)
         parent, first_tree = tail_bone.get(limb[0][1]), limb[0][3]
-        for i, (a, b) in enumerate(zip(keep[:-1], keep[1:])):
-            node = int(nodes[b])
-            kind = kinds[node] if node >= 0 else "connection"
-            name = name_of(kind, side, pair, i)
-            inset = kind == "end" and degree[node] == 1
-            bones.append(BoneSpec(name, points[a].copy(), _tail(points, radii, a, b, inset),
-                                  parent, parent is not None and (i > 0 or first_tree), kind,
-                                  node, int(segment_links[b - 1]), float(radii[a]),
-                                  float(radii[b])))
+        for i, (head, tail, z_axis) in enumerate(zip(heads, tails, z_axes)):
+            name = name_of(name_kinds[k][i], side, pair, i)
+            bones.append(BoneSpec(
+                name, head, tail, parent, parent is not None and (i > 0 or first_tree),
+                bone_kinds[k][i], int(limb_points.nodes[i + 1]), int(limb_points.links[i]),
+                float(limb_points.radii[i]), float(limb_points.radii[i + 1]), z_axis,
+                rolls.blender_roll(head, tail, z_axis)))
             parent = name
         if limb[-1][3]:
             tail_bone[limb[-1][2]] = parent
     return bones
+
+
+def _limb_segments(limb_points, kinds, degree):
+    """(heads, tails) #B by 3 of a limb's bones: from joint to joint, the last one's tail
+    inset (`_tail`) when the limb ends at an end node of degree 1 (a prong's tip)."""
+    points = np.asarray(limb_points.points, dtype=float)
+    heads, tails = points[:-1].copy(), points[1:].copy()
+    end = int(limb_points.nodes[-1])
+    if end >= 0 and kinds[end] == "end" and degree[end] == 1:
+        tails[-1] = _tail(points[-2], points[-1], limb_points.radii[-2])
+    return heads, tails
 
 
 def _paired_counts(counts, segments, sides):
@@ -298,78 +514,6 @@ def _namer():
     return name
 
 
-def mirror_plane(points):
-    """Return (normal, offset, error) of the best mirror plane n.x = offset of `points` (#P by
-    3), or None (fewer than 2 points, no candidate). Candidates: the coordinate planes and
-    the principal planes through the centroid, each refined twice (the plane through the
-    midpoints of each point and its mirror image's nearest point); a plane with fewer than
-    a quarter of the points farther than MIRROR_TOLERANCE from it is skipped (a flat shape
-    lies in a plane that mirrors it trivially). error: the mean distance from each mirrored
-    point to its nearest point, over the points' bounding-box diagonal. The normal's largest
-    component is positive (its side is Blender's left, .L, for a model facing -Y)."""
-    points = np.asarray(points, dtype=float).reshape(-1, 3)
-    diagonal = float(np.linalg.norm(np.ptp(points, axis=0))) if len(points) else 0.0
-    if len(points) < 2 or diagonal == 0:
-        return None
-    centre = points.mean(axis=0)
-    best = None
-    for normal in list(np.eye(3)) + list(np.linalg.svd(points - centre)[2]):
-        offset = float(normal @ centre)
-        for refinement in range(3):
-            mirrored = points - 2 * (points @ normal - offset)[:, None] * normal
-            distances = np.linalg.norm(mirrored[:, None] - points[None], axis=2)
-            match = distances.argmin(axis=1)
-            error = float(distances[np.arange(len(points)), match].mean()) / diagonal
-            if refinement == 2:
-                break
-            gaps = points - points[match]
-            gaps *= np.where(gaps @ normal < 0, -1.0, 1.0)[:, None]
-            if np.linalg.norm(gaps.sum(axis=0)) > 1e-9 * diagonal:
-                normal = gaps.sum(axis=0) / np.linalg.norm(gaps.sum(axis=0))
-            offset = float(np.mean((points + points[match]) @ normal) / 2)
-        off_plane = np.abs(points @ normal - offset) > MIRROR_TOLERANCE * diagonal
-        if off_plane.mean() < 0.25:  # a plane the shape lies in mirrors it trivially
-            continue
-        if best is None or error < best[2]:
-            best = (normal, offset, error)
-    if best is None:
-        return None
-    normal, offset, error = best
-    if normal[np.argmax(np.abs(normal))] < 0:
-        normal, offset = -normal, -offset
-    return normal, offset, error
-
-
-def limb_sides(skeleton, limb_points):
-    """Return (side, pair) per limb (limb_points: each limb's polyline points): side "L" or
-    "R" for a limb paired with its mirror image across the skeleton's mirror plane
-    (`mirror_plane` of the nodes, error at most MIRROR_TOLERANCE, the root on it), pair the
-    pair's index; (None, -1) for the limbs of the middle, unpaired ones and every limb of a
-    shape with no mirror plane."""
-    none = [(None, -1)] * len(limb_points)
-    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    plane = mirror_plane(positions)
-    if plane is None or plane[2] > MIRROR_TOLERANCE or not 0 <= skeleton.root < len(positions):
-        return none
-    normal, offset, _ = plane
-    tolerance = MIRROR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
-    if abs(positions[skeleton.root] @ normal - offset) > tolerance:
-        return none
-    centres = np.array([np.mean(points, axis=0) for points in limb_points]).reshape(-1, 3)
-    signed = centres @ normal - offset
-    mirrored = centres - 2 * signed[:, None] * normal
-    left, right = np.flatnonzero(signed > tolerance), np.flatnonzero(signed < -tolerance)
-    if not len(left) or not len(right):
-        return none
-    gaps = np.linalg.norm(mirrored[left][:, None] - centres[right][None], axis=2)
-    result = list(none)
-    for row, i in enumerate(left):
-        column = int(gaps[row].argmin())
-        if gaps[:, column].argmin() == row and gaps[row, column] <= 2 * tolerance:
-            result[i], result[right[column]] = ("L", row), ("R", row)
-    return result
-
-
 def _drop_short(points, keep, min_length):
     """`keep` without the points closer than min_length to the previous kept one (the last
     point stays, replacing the one before it)."""
@@ -382,24 +526,24 @@ def _drop_short(points, keep, min_length):
     return result
 
 
-def _tail(points, radii, a, b, inset):
-    """The tail of the bone from point a to point b: point b, or with `inset` (an end bone)
-    point b moved back towards the head by END_INSET x the radius at the head (at most half
-    the bone), so the last joint sits inside the prong's rounded tip rather than on it."""
-    tail = points[b].copy()
-    if not inset or END_INSET <= 0:
-        return tail
-    direction = tail - points[a]
+def _tail(head, tip, radius):
+    """The tail of an end bone from `head` to the end node at `tip`: moved back towards the
+    head by END_INSET x the radius at the head (at most half the bone), so that the last
+    joint sits inside the prong's rounded tip rather than on it."""
+    tail = np.array(tip, dtype=float)
+    direction = tail - head
     length = float(np.linalg.norm(direction))
-    if length == 0:
+    if END_INSET <= 0 or length == 0:
         return tail
-    return tail - direction * min(END_INSET * float(radii[a]) / length, 0.5)
+    return tail - direction * min(END_INSET * float(radius) / length, 0.5)
 
 
 def bone_arrays(plan):
     """The plan as arrays, in plan order: names (#B str), heads and tails (#B by 3 float64),
     parents (#B int64 index into the plan, -1 at a root), links (#B int64, the skeleton link of
-    each bone) and kinds (#B str)."""
+    each bone), kinds (#B str), z_axes (#B by 3 float64, each bone's unit local Z axis) and
+    rolls (#B float64, Blender's roll in radians for that axis, in the skeleton's
+    coordinates)."""
     index = {spec.name: i for i, spec in enumerate(plan)}
     return {
         "names": np.array([spec.name for spec in plan], dtype=str),
@@ -409,4 +553,6 @@ def bone_arrays(plan):
                              for spec in plan], dtype=np.int64),
         "links": np.array([spec.link for spec in plan], dtype=np.int64),
         "kinds": np.array([spec.kind for spec in plan], dtype=str),
+        "z_axes": np.array([spec.z_axis for spec in plan], dtype=np.float64).reshape(-1, 3),
+        "rolls": np.array([spec.roll for spec in plan], dtype=np.float64),
     }

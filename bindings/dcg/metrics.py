@@ -302,3 +302,38 @@ def skeleton_metrics(V, heads, tails, joints, parents, step=0.005) -> Dict[str, 
     return {"cd_j2j": 100.0 * chamfer_j2j(our_joints, joints) / side,
             "cd_j2b": 100.0 * chamfer_j2b(our_joints, ours, joints, theirs) / side,
             "cd_b2b": 100.0 * chamfer_b2b(ours, theirs, step * side) / side}
+
+
+# --- symmetry ----------------------------------------------------------------------------------
+
+def mirror_pairs(names) -> List[Tuple[int, int]]:
+    """(l, r) index pairs of the bones named `X.L` and `X.R` (Blender's side suffixes), in
+    the order of the .L bones."""
+    index = {str(name): b for b, name in enumerate(names)}
+    return [(b, index[str(name)[:-1] + "R"]) for b, name in enumerate(names)
+            if str(name).endswith(".L") and str(name)[:-1] + "R" in index]
+
+
+def mirror_error(V, names, heads, tails, normal, offset) -> Dict[str, float]:
+    """How far a rig's paired bones (names `X.L` / `X.R`, heads and tails #B x 3) are from
+    mirroring each other across the plane normal . x = offset (normal a unit 3-vector): the
+    mean and the largest distance from each .L bone's head and tail mirrored to its .R
+    partner's, in % of V's longest bounding-box side ("mirror_mean", "mirror_max", None
+    without pairs), and the number of pairs and of bones with a side suffix but no partner
+    ("pairs", "unpaired")."""
+    side = float(np.ptp(np.asarray(V, dtype=float), axis=0).max()) or 1.0
+    normal = np.asarray(normal, dtype=float)
+    pairs = mirror_pairs(names)
+    sided = sum(str(name).endswith((".L", ".R")) for name in names)
+    result = {"mirror_mean": None, "mirror_max": None, "pairs": len(pairs),
+              "unpaired": sided - 2 * len(pairs)}
+    if not pairs:
+        return result
+    left, right = np.array(pairs).T
+    ends = [np.asarray(heads, dtype=float), np.asarray(tails, dtype=float)]
+    points_l = np.concatenate([end[left] for end in ends])
+    points_r = np.concatenate([end[right] for end in ends])
+    mirrored = points_l - 2.0 * (points_l @ normal - offset)[:, None] * normal
+    distances = 100.0 * np.linalg.norm(mirrored - points_r, axis=1) / side
+    result.update(mirror_mean=float(distances.mean()), mirror_max=float(distances.max()))
+    return result

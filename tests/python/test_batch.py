@@ -204,6 +204,8 @@ def test_the_npz_holds_the_bones_the_addon_makes(repo, bone_detail):
         parents = [None if p < 0 else str(npz["bone_names"][p]) for p in npz["bone_parents"]]
         assert parents == [spec.parent for spec in plan]
         assert list(npz["bone_kinds"]) == [spec.kind for spec in plan]
+        assert np.array_equal(npz["bone_z_axes"], [spec.z_axis for spec in plan])
+        assert np.array_equal(npz["bone_rolls"], [spec.roll for spec in plan])
         assert npz["weights"].shape == (len(V), len(plan))
         # One tree chained away from the root: parents first, each head at its parent's tail.
         for b, parent in enumerate(npz["bone_parents"]):

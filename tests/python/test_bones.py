@@ -267,3 +267,166 @@ def test_a_small_asymmetry_is_tolerated_a_large_one_is_not():
     assert not any(s.name.endswith((".L", ".R")) for s in skewed)
     assert sorted(s.name for s in skewed if s.kind == "end") == [
         "end.001", "end.002", "end.003", "end.004", "end.005"]
+
+
+# --- symmetry: paired limbs mirror each other, the middle lies on the plane --------------------
+
+def jittered_body(jitter=0.02, arm_drop=0.03, lean=0.03, seed=0):
+    """body() with 4 inner points per link, every point but the root moved by up to `jitter`
+    (seeded), the right hand lowered and the head leaning: a symmetric skeleton drawn a little
+    asymmetrically, as the engine draws a symmetric mesh's. Radii 0.1 everywhere."""
+    rng = np.random.default_rng(seed)
+    shape = body(lean=lean, arm_drop=arm_drop)
+    positions = shape.positions.copy()
+    positions[1:] += rng.uniform(-jitter, jitter, size=positions[1:].shape)
+    polylines = []
+    for a, b in shape.links:
+        inner = positions[a] + np.linspace(0, 1, 6)[1:-1, None] * (positions[b] - positions[a])
+        inner += rng.uniform(-jitter, jitter, size=inner.shape)
+        polylines.append(np.vstack([positions[a], inner, positions[b]]))
+    return skeleton_of(positions, shape.kinds, shape.links, polylines, root=0)
+
+
+def mirror_partners(plan):
+    """[(left, right)] BoneSpecs named X.L / X.R; asserts that every sided name pairs."""
+    names = {spec.name: spec for spec in plan}
+    sided = [name for name in names if name.endswith((".L", ".R"))]
+    for name in sided:
+        assert name[:-1] + ("R" if name.endswith("L") else "L") in names, name
+    return [(names[n], names[n[:-1] + "R"]) for n in sorted(sided) if n.endswith(".L")]
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_slightly_asymmetric_skeleton_comes_out_exactly_mirrored(seed):
+    skeleton = jittered_body(seed=seed)
+    plan = bones.plan_bones(skeleton, bone_detail=0.5)
+    plane = bones.plan_plane(skeleton)
+    assert plane is not None and abs(plane.normal[0]) > 0.99
+    pairs = mirror_partners(plan)
+    assert len(pairs) >= 4
+    before = []  # how far the input's paired joints were from mirroring each other
+    for left, right in pairs:
+        assert np.allclose(plane.reflect(left.head), right.head, atol=1e-12)
+        assert np.allclose(plane.reflect(left.tail), right.tail, atol=1e-12)
+        assert left.head_radius == right.head_radius and left.kind == right.kind
+        before.append(np.linalg.norm(plane.reflect(skeleton.positions[left.node])
+                                     - skeleton.positions[right.node]))
+    assert max(before) > 0.01  # the input was not mirrored: the plan was made so
+    middle = [spec for spec in plan if not spec.name.endswith((".L", ".R"))]
+    assert middle and all(abs(plane.signed(spec.head)) < 1e-12 for spec in middle)
+    assert all(abs(plane.signed(spec.tail)) < 1e-12 for spec in middle)
+    for spec in plan:  # every joint stays within MIRROR_REACH radii of the limb it came from
+        nearest = min(np.min(np.linalg.norm(polyline - spec.head, axis=1))
+                      for polyline in skeleton.polylines)
+        assert nearest <= bones.symmetry.MIRROR_REACH * 0.1 + 1e-12
+
+
+def test_joints_move_at_most_their_reach_toward_a_far_partner(no_inset):
+    # The right hand 0.2 lower: halfway would move each hand 0.1, more than 0.9 x 0.05. That
+    # arm does not tilt the plane either: the legs and the elbows still mirror across x = 0.
+    skeleton = body(arm_drop=0.2)
+    skeleton.radii = np.full(len(skeleton.positions), 0.05)
+    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    plane = bones.plan_plane(skeleton)
+    assert np.allclose(plane.normal, [1, 0, 0], atol=1e-6) and abs(plane.offset) < 1e-6
+    hands = {spec.name: spec for spec in plan if spec.node in (8, 10)}
+    left, right = hands["end.002.L"], hands["end.002.R"]
+    reach = bones.symmetry.MIRROR_REACH * 0.05
+    for spec, node in ((left, 8), (right, 10)):
+        assert np.linalg.norm(spec.tail - skeleton.positions[node]) == pytest.approx(reach)
+    gap = np.linalg.norm(plane.reflect(left.tail) - right.tail)
+    assert 0 < gap < np.linalg.norm(plane.reflect(skeleton.positions[8])
+                                    - skeleton.positions[10])
+    legs = [pair for pair in mirror_partners(plan) if pair[0].node == 4]  # still exact
+    assert legs and np.allclose(plane.reflect(legs[0][0].tail), legs[0][1].tail)
+
+
+def test_an_asymmetric_skeleton_is_rigged_as_it_is(no_inset):
+    skeleton = body(lean=0.9, arm_drop=1.5)
+    assert bones.plan_plane(skeleton) is None
+    plan = bones.plan_bones(skeleton, bone_detail=1.0)
+    for spec in plan:  # every joint is a node of the skeleton, where it was
+        for point in (spec.head, spec.tail):
+            assert np.min(np.linalg.norm(skeleton.positions - point, axis=1)) < 1e-12
+
+
+def test_limbs_pair_only_when_they_end_alike():
+    skeleton = body()
+    skeleton.kinds[10] = "joint"  # the right hand: a branching node's kind
+    chains = bones.limbs(skeleton)
+    points = [bones.limb_polyline(skeleton, limb)[0] for limb in chains]
+    ends = [limb[-1][2] for limb in chains]
+    sides = bones.limb_sides(skeleton, points, ends)
+    by_end = {end: side for end, (side, _) in zip(ends, sides)}
+    assert by_end[8] is None and by_end[10] is None  # the arms no longer pair
+    assert by_end[4] == "L" and by_end[6] == "R"      # the legs still do
+    assert [s[0] for s in bones.limb_sides(skeleton, points)].count("L") == 2  # without ends
+
+
+# --- rolls -------------------------------------------------------------------------------------
+
+def test_rolls_turn_one_way_along_a_bent_chain():
+    skeleton = bent_tube(bend_at=4)
+    plan = bones.plan_bones(skeleton, bone_detail=1.0)
+    z = np.array([spec.z_axis for spec in plan])
+    along = np.array([spec.tail - spec.head for spec in plan])
+    assert np.allclose(np.einsum("bi,bi->b", z, along), 0, atol=1e-12)  # normal to each bone
+    assert np.allclose(np.linalg.norm(z, axis=1), 1)
+    assert np.allclose(z[:, 1], 0, atol=1e-12)  # in the plane the tube bends in (y = 0)
+    assert (z @ z.T > -1e-12).all()  # no bone's axis flips against another's
+    # Both legs of the L point their Z axes to the outside of the bend: -x, then +z.
+    assert z[0] @ [-1, 0, 0] > 0.99 and z[-1] @ [0, 0, 1] > 0.99
+
+
+def test_paired_bones_axes_mirror_and_the_middles_lie_in_the_plane():
+    skeleton = jittered_body(seed=3)
+    plan = bones.plan_bones(skeleton, bone_detail=0.5)
+    plane = bones.plan_plane(skeleton)
+    for left, right in mirror_partners(plan):
+        assert np.allclose(plane.reflect_direction(left.z_axis), right.z_axis, atol=1e-9)
+    for spec in plan:
+        if not spec.name.endswith((".L", ".R")):
+            assert abs(spec.z_axis @ plane.normal) < 1e-9, spec.name
+
+
+def test_blender_rolls_of_mirrored_bones_across_x_0_are_opposite():
+    rng = np.random.default_rng(7)
+    flip = np.array([-1.0, 1.0, 1.0])
+    for _ in range(200):
+        head, tail = rng.normal(size=3), rng.normal(size=3)
+        along = (tail - head) / np.linalg.norm(tail - head)
+        z = rng.normal(size=3)
+        z -= (z @ along) * along
+        z /= np.linalg.norm(z)
+        roll = bones.rolls.blender_roll(head, tail, z)
+        mirrored = bones.rolls.blender_roll(head * flip, tail * flip, z * flip)
+        assert np.isclose(np.cos(roll), np.cos(mirrored)) and \
+            np.isclose(np.sin(roll), -np.sin(mirrored))
+
+
+def test_blender_roll_turns_the_roll_zero_axes_onto_the_z_axis():
+    rng = np.random.default_rng(8)
+    directions = list(rng.normal(size=(100, 3))) + [[0, 1, 0], [0, -1, 0], [1e-5, -1, 0],
+                                                    [0.01, -1, 0.01], [1, 0, 0]]
+    for direction in directions:
+        y = np.asarray(direction, float) / np.linalg.norm(direction)
+        x0, z0 = bones.rolls.roll_zero_axes(y)
+        frame = np.column_stack([x0, y, z0])  # Blender's bone matrix at roll 0 (within 1e-4
+        assert np.allclose(frame.T @ frame, np.eye(3), atol=1e-4)  # of -Y: -Y's own axes)
+        assert np.linalg.det(frame) == pytest.approx(1.0, abs=1e-4)
+        z = np.cross(y, rng.normal(size=3))
+        z /= np.linalg.norm(z)
+        roll = bones.rolls.blender_roll(np.zeros(3), y, z)
+        # Blender: matrix = rotation about y by roll, times the roll-0 matrix.
+        assert np.allclose(np.cos(roll) * z0 + np.sin(roll) * x0, z, atol=1e-4)
+    x0, z0 = bones.rolls.roll_zero_axes(np.array([0.0, 1.0, 0.0]))
+    assert np.allclose(x0, [1, 0, 0]) and np.allclose(z0, [0, 0, 1])
+
+
+def test_bone_arrays_carry_the_z_axes_and_rolls():
+    plan = bones.plan_bones(jittered_body(), bone_detail=0.5)
+    arrays = bones.bone_arrays(plan)
+    assert arrays["z_axes"].shape == (len(plan), 3) and arrays["rolls"].shape == (len(plan),)
+    assert np.array_equal(arrays["rolls"], [spec.roll for spec in plan])
+    empty = bones.bone_arrays([])
+    assert empty["z_axes"].shape == (0, 3) and empty["rolls"].shape == (0,)

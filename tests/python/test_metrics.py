@@ -192,3 +192,20 @@ def test_the_shared_rigs_read_with_weights_summing_to_one(meshes_dir):
         assert np.sum(rig.parents < 0) >= 1 and rig.parents[rig.root] == -1, name
         sums = rig.weights.sum(axis=1)
         assert np.all((np.abs(sums - 1) < 1e-3) | (sums == 0)), name
+
+
+def test_mirror_error_of_paired_bones_in_percent_of_the_longest_side():
+    V = np.array([[-5.0, 0, 0], [5, 0, 0], [0, 2, 0]])  # longest side 10
+    names = ["arm.L", "arm.R", "spine", "leg.L", "leg.R", "tail.L"]
+    heads = np.array([[1.0, 0, 0], [-1, 0, 0], [0, 0, 0], [1, 0, -1], [-1, 0.1, -1], [2, 0, 0]])
+    tails = np.array([[2.0, 0, 0], [-2, 0, 0], [0, 1, 0], [1, 0, -2], [-1, 0.3, -2], [3, 0, 0]])
+    assert metrics.mirror_pairs(names) == [(0, 1), (3, 4)]
+    result = metrics.mirror_error(V, names, heads, tails, [1, 0, 0], 0.0)
+    # |M(head) - head'|: 0, 0.1; tails: 0, 0.3 -> mean 0.1, max 0.3, over 10, in %.
+    assert result["mirror_mean"] == pytest.approx(1.0)
+    assert result["mirror_max"] == pytest.approx(3.0)
+    assert result["pairs"] == 2 and result["unpaired"] == 1  # tail.L has no tail.R
+    # Across another plane (x = 1) the same bones are far from mirrored.
+    assert metrics.mirror_error(V, names, heads, tails, [1, 0, 0], 1.0)["mirror_mean"] > 10
+    none = metrics.mirror_error(V, ["spine"], heads[2:3], tails[2:3], [1, 0, 0], 0.0)
+    assert none["mirror_mean"] is None and none["pairs"] == 0

@@ -1,0 +1,288 @@
+"""Mirror symmetry of the bone plan (no `bpy`: plain pytest tests it): the pieces that
+`dcg.bones.plan_bones` makes a mirror-symmetric plan with.
+
+    plane = symmetry.skeleton_plane(skeleton)   # a Plane, or None: no symmetry, as before
+    sides = symmetry.pair_limbs(plane, skeleton, limb_points, limb_ends)  # (side, pair)
+    plane = symmetry.fitted_plane(plane, left, right, middle)   # refined on the pairs
+    points = symmetry.settle(original, target, reach)   # joints moved toward their targets
+
+The skeleton's plane is the best mirror plane of its nodes (`mirror_plane`, tolerant of small
+asymmetries) when it passes through the root. The limbs on either side that mirror each other
+pair across it (`.L` / `.R`); the plan then mirrors across the plane those pairs and the
+middle fit best (`fitted_plane`: the nodes' plane is off by a degree or so, which would move
+every joint of a long limb). The planner places the joints of a pair once, on the mean of one
+limb and the mirror image of the other (`mean_polyline`), and gives the other limb their
+mirror images; joints of the middle (unpaired limbs, the root) go onto the plane
+(`onto_plane`). A joint moves at most MIRROR_REACH skeleton radii there (the radius is its
+distance to the surface, so it stays inside the mesh): a paired joint that would have to move
+farther stops that far on its way (`settle`), that pair then mirrors only approximately, and a
+joint of the middle farther from the plane stays where it is.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: A mirror plane is accepted when the skeleton's nodes mirrored across it lie this close to
+#: nodes (mean, in bounding-box diagonals); limbs' sides and pairs use the same tolerance.
+MIRROR_TOLERANCE = 0.03
+#: The farthest a joint moves to meet its mirror image or the plane, in skeleton radii at the
+#: joint (the radius is the distance to the surface: below 1 the joint stays inside the mesh).
+MIRROR_REACH = 0.9
+#: The plane fitted to the pairs replaces the nodes' only within acos(this) of it (25 deg).
+FITTED_AGREEMENT = 0.9
+#: Rounds of reweighting of the fitted plane (each weighs points by how far they are off).
+FITTED_ROUNDS = 20
+
+
+@dataclass(frozen=True)
+class Plane:
+    """The mirror plane normal . x = offset (normal a unit 3-vector; error as mirror_plane's)."""
+
+    normal: np.ndarray
+    offset: float
+    error: float
+
+    def signed(self, points):
+        """#P signed distances of points (#P by 3) to the plane, positive on the .L side."""
+        return np.asarray(points, dtype=float) @ self.normal - self.offset
+
+    def reflect(self, points):
+        """points (#P by 3, or one 3-vector) mirrored across the plane."""
+        points = np.asarray(points, dtype=float)
+        return points - 2.0 * self.signed(points)[..., None] * self.normal
+
+    def reflect_direction(self, vectors):
+        """Directions (#P by 3, or one 3-vector) mirrored: the normal's component flips."""
+        vectors = np.asarray(vectors, dtype=float)
+        return vectors - 2.0 * (vectors @ self.normal)[..., None] * self.normal
+
+    def project(self, points):
+        """points moved onto the plane along its normal."""
+        points = np.asarray(points, dtype=float)
+        return points - self.signed(points)[..., None] * self.normal
+
+
+def mirror_plane(points):
+    """Return (normal, offset, error) of the best mirror plane n.x = offset of `points` (#P by
+    3), or None (fewer than 2 points, no candidate). Candidates: the coordinate planes and
+    the principal planes through the centroid, each refined twice (the plane through the
+    midpoints of each point and its mirror image's nearest point); a plane with fewer than
+    a quarter of the points farther than MIRROR_TOLERANCE from it is skipped (a flat shape
+    lies in a plane that mirrors it trivially). error: the mean distance from each mirrored
+    point to its nearest point, over the points' bounding-box diagonal. The normal's largest
+    component is positive (its side is Blender's left, .L, for a model facing -Y)."""
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    diagonal = float(np.linalg.norm(np.ptp(points, axis=0))) if len(points) else 0.0
+    if len(points) < 2 or diagonal == 0:
+        return None
+    centre = points.mean(axis=0)
+    best = None
+    for normal in list(np.eye(3)) + list(np.linalg.svd(points - centre)[2]):
+        offset = float(normal @ centre)
+        for refinement in range(3):
+            mirrored = points - 2 * (points @ normal - offset)[:, None] * normal
+            distances = np.linalg.norm(mirrored[:, None] - points[None], axis=2)
+            match = distances.argmin(axis=1)
+            error = float(distances[np.arange(len(points)), match].mean()) / diagonal
+            if refinement == 2:
+                break
+            gaps = points - points[match]
+            gaps *= np.where(gaps @ normal < 0, -1.0, 1.0)[:, None]
+            if np.linalg.norm(gaps.sum(axis=0)) > 1e-9 * diagonal:
+                normal = gaps.sum(axis=0) / np.linalg.norm(gaps.sum(axis=0))
+            offset = float(np.mean((points + points[match]) @ normal) / 2)
+        off_plane = np.abs(points @ normal - offset) > MIRROR_TOLERANCE * diagonal
+        if off_plane.mean() < 0.25:  # a plane the shape lies in mirrors it trivially
+            continue
+        if best is None or error < best[2]:
+            best = (normal, offset, error)
+    if best is None:
+        return None
+    normal, offset, error = best
+    if normal[np.argmax(np.abs(normal))] < 0:
+        normal, offset = -normal, -offset
+    return normal, offset, error
+
+
+def _tolerance(positions):
+    """MIRROR_TOLERANCE in the skeleton's units (its nodes' bounding-box diagonal)."""
+    return MIRROR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
+
+
+def skeleton_plane(skeleton):
+    """The skeleton's mirror plane (a Plane) when it has one: `mirror_plane` of its nodes with
+    an error of at most MIRROR_TOLERANCE, the root within that tolerance of it; else None."""
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    found = mirror_plane(positions)
+    if found is None or found[2] > MIRROR_TOLERANCE or not 0 <= skeleton.root < len(positions):
+        return None
+    plane = Plane(np.asarray(found[0], dtype=float), float(found[1]), float(found[2]))
+    if abs(plane.signed(positions[skeleton.root])) > _tolerance(positions):
+        return None
+    return plane
+
+
+def limb_sides(skeleton, limb_points, limb_ends=None):
+    """Return (side, pair) per limb (limb_points: each limb's polyline points): side "L" or
+    "R" for a limb paired with its mirror image across the skeleton's mirror plane
+    (`skeleton_plane`), pair the pair's index; (None, -1) for the limbs of the middle,
+    unpaired ones and every limb of a shape with no mirror plane. See `pair_limbs`."""
+    return pair_limbs(skeleton_plane(skeleton), skeleton, limb_points, limb_ends)
+
+
+def pair_limbs(plane, skeleton, limb_points, limb_ends=None):
+    """`limb_sides` across `plane` (a Plane, or None: no pairs). Limbs whose centres lie
+    farther than MIRROR_TOLERANCE from the plane pair with the one on the other side nearest
+    to their mirror image (both ways, within twice the tolerance). With `limb_ends` (the node
+    each limb ends at) two limbs pair only when those nodes are of one kind, so that their
+    bones' names pair too (an arm that ends in a hand on one side and at a fingertip on the
+    other is no mirror image of the other arm)."""
+    none = [(None, -1)] * len(limb_points)
+    if plane is None:
+        return none
+    tolerance = _tolerance(np.asarray(skeleton.positions, dtype=float).reshape(-1, 3))
+    centres = np.array([np.mean(points, axis=0) for points in limb_points]).reshape(-1, 3)
+    signed = plane.signed(centres)
+    left, right = np.flatnonzero(signed > tolerance), np.flatnonzero(signed < -tolerance)
+    if not len(left) or not len(right):
+        return none
+    gaps = np.linalg.norm(plane.reflect(centres[left])[:, None] - centres[right][None], axis=2)
+    if limb_ends is not None:
+        kinds = np.array([str(k) for k in skeleton.kinds])[np.asarray(limb_ends, dtype=int)]
+        gaps[kinds[left][:, None] != kinds[right][None]] = np.inf
+    result = list(none)
+    for row, i in enumerate(left):
+        column = int(gaps[row].argmin())
+        if gaps[:, column].argmin() == row and gaps[row, column] <= 2 * tolerance:
+            result[i], result[right[column]] = ("L", row), ("R", row)
+    return result
+
+
+def arc_fractions(points):
+    """#P: each point's arc length along the polyline `points`, over the whole (0 to 1)."""
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    return arc / arc[-1] if arc[-1] > 0 else np.linspace(0.0, 1.0, len(points))
+
+
+def resample(values, at, where):
+    """values (#P, or #P by k) given at the increasing fractions `at`, linear at `where`."""
+    values = np.asarray(values, dtype=float)
+    if values.ndim == 1:
+        return np.interp(where, at, values)
+    return np.stack([np.interp(where, at, column) for column in values.T], axis=1)
+
+
+def nearest_fractions(plane, points_l, points_r):
+    """#P_L: for each point of the .L limb (points_l #P_L by 3), the fraction of arc length
+    along the .R limb (points_r) of the point nearest to its mirror image across `plane`,
+    never decreasing along the limb, 0 and 1 at its two ends (its nodes)."""
+    mirrored = plane.reflect(points_l)
+    heads, tails = points_r[:-1], points_r[1:]
+    step = tails - heads
+    length2 = np.einsum("sa,sa->s", step, step)
+    along = np.einsum("psa,sa->ps", mirrored[:, None] - heads[None], step)
+    t = np.clip(np.divide(along, length2, out=np.zeros_like(along), where=length2 > 0), 0, 1)
+    distance = np.linalg.norm(mirrored[:, None] - (heads[None] + t[..., None] * step), axis=2)
+    segment = distance.argmin(axis=1)
+    at_r = arc_fractions(points_r)
+    where = at_r[segment] + t[np.arange(len(points_l)), segment] * np.diff(at_r)[segment]
+    where[0], where[-1] = 0.0, 1.0
+    return np.maximum.accumulate(where)
+
+
+def mean_polyline(plane, left, right, where):
+    """The mean of a pair of limbs: (points, radii) at the .L limb's points, each the midpoint
+    of the .L limb's point and the mirror image of the .R limb's point at the fraction of arc
+    length `where` (#P_L) along it, radii the mean of the two. left, right: (points #P by 3,
+    radii #P) of each limb, from the node nearer the root."""
+    (points_l, radii_l), (points_r, radii_r) = left, right
+    at_r = arc_fractions(points_r)
+    mirrored = plane.reflect(resample(points_r, at_r, where))
+    return (points_l + mirrored) / 2.0, (radii_l + resample(radii_r, at_r, where)) / 2.0
+
+
+def fitted_plane(plane, limb_pairs, middle):
+    """The plane that paired limbs mirror each other across and the middle's points lie on,
+    fitted robustly (least absolute deviations, by iteratively reweighted least squares) so
+    that most points mirror exactly and a limb that is no mirror image of its partner (an
+    arm raised on one side) does not tilt the plane: FITTED_ROUNDS rounds from `plane` (the
+    skeleton's) of matching each .L limb's points with the nearest points of the mirrored .R
+    limb (`nearest_fractions`), then a normal from the directions from each .R point to its
+    .L point (each a vote, weighted by 1 / its angle to the normal, less for points near the
+    plane, whose direction says little) and an offset from the pairs' midpoints and the
+    middle's points (weighted by 1 / their distance to the plane). limb_pairs: [(points_l,
+    points_r)] #P by 3 each, middle: #M by 3. `plane` when there are no pairs, or where the
+    fit turns more than acos(FITTED_AGREEMENT) away from it."""
+    if not limb_pairs:
+        return plane
+    middle = np.asarray(middle, dtype=float).reshape(-1, 3)
+    everything = np.concatenate([np.concatenate(pair) for pair in limb_pairs] + [middle])
+    floor = 1e-9 * max(float(np.linalg.norm(np.ptp(everything, axis=0))), 1e-300)
+    fitted = plane
+    for _ in range(FITTED_ROUNDS):
+        left, right = _matching_points(fitted, limb_pairs)
+        normal = _voted_normal(left - right, fitted.normal, floor)
+        if normal @ plane.normal < FITTED_AGREEMENT:  # the pairs do not say where it is
+            return plane
+        centres = np.concatenate([(left + right) / 2.0, middle]) @ normal
+        weights = 1.0 / np.maximum(np.abs(centres - fitted.offset), floor)
+        fitted = Plane(normal, float(np.sum(weights * centres) / np.sum(weights)), plane.error)
+    return fitted
+
+
+def _voted_normal(differences, normal, floor):
+    """The unit direction the rows of `differences` (#P by 3) agree on, on the side of
+    `normal` (the last estimate): their first singular vector, each row made a unit vote
+    weighted by 1 / its angle to `normal` and by its length over the median (at most 1)."""
+    length = np.linalg.norm(differences, axis=1)
+    use = length > floor
+    if not use.any():
+        return normal
+    votes = differences[use] / length[use, None]
+    votes *= np.where(votes @ normal < 0, -1.0, 1.0)[:, None]
+    angle = np.linalg.norm(votes - (votes @ normal)[:, None] * normal, axis=1)
+    weight = np.minimum(length[use] / np.median(length[use]), 1.0) / np.maximum(angle, 1e-9)
+    result = np.linalg.svd(votes * np.sqrt(weight)[:, None], full_matrices=False)[2][0]
+    return result if result @ normal >= 0 else -result
+
+
+def _matching_points(plane, limb_pairs):
+    """(left, right) #P by 3: each .L limb's points and the .R limb's matching ones across
+    `plane` (nearest_fractions), all pairs one after the other."""
+    left, right = [], []
+    for points_l, points_r in limb_pairs:
+        where = nearest_fractions(plane, points_l, points_r)
+        left.append(points_l)
+        right.append(resample(points_r, arc_fractions(points_r), where))
+    return np.concatenate(left), np.concatenate(right)
+
+
+def node_partners(node_pairs):
+    """{node: partner} of `node_pairs` ((a, b): the nodes two paired limbs start or end at, in
+    order of priority; a node both limbs share is its own partner). A node keeps its first
+    partner: a later pair that would give it another is left out."""
+    partner = {}
+    for a, b in node_pairs:
+        if a not in partner and b not in partner:
+            partner[a], partner[b] = b, a
+    return partner
+
+
+def onto_plane(plane, points, reach):
+    """points (#J by 3) projected onto the plane where that moves them at most `reach` (#J);
+    the others stay where they are (a limb off to one side is no part of the middle)."""
+    points = np.asarray(points, dtype=float)
+    close = np.abs(plane.signed(points)) <= np.asarray(reach, dtype=float)
+    return np.where(close[..., None], plane.project(points), points)
+
+
+def settle(original, target, reach):
+    """The joints (#J by 3) moved from `original` to `target`, each at most `reach` (#J) far:
+    one farther away stops that far along the way there."""
+    original, target = np.asarray(original, dtype=float), np.asarray(target, dtype=float)
+    step = target - original
+    distance = np.linalg.norm(step, axis=-1)
+    limit = np.asarray(reach, dtype=float)
+    scale = np.divide(limit, distance, out=np.ones_like(distance), where=distance > limit)
+    return original + step * scale[..., None]
