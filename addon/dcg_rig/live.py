@@ -64,12 +64,13 @@ def kept_for(mesh_name):
     return _kept if _kept is not None and _kept.mesh_name == mesh_name else None
 
 
-def matching(mesh_name, mesh_fingerprint, options):
-    """Return the kept extractor when it was made from these triangles of `mesh_name` with
-    these options (tau aside: it is retuned to options' tau here), else None."""
+def matching(mesh_name, V, F, options):
+    """Return the kept extractor when it was made from these triangles (V, F) of `mesh_name`
+    with these options (tau aside: it is retuned to options' tau here), else None. The
+    triangles are fingerprinted only when the name and options match (Rig asks every time)."""
     kept = kept_for(mesh_name)
     if (kept is None or kept.options != _but_tau(options)
-            or kept.fingerprint != mesh_fingerprint):
+            or kept.fingerprint != fingerprint(V, F)):
         return None
     tau = options.get("tau")
     if tau is not None and kept.extractor.options.get("tau") != tau:

@@ -232,7 +232,7 @@ def retune_live_preview(context):
     try:
         V, F = rigging.object_mesh(context, obj)
         kwargs = options.engine_kwargs(properties.ENGINE_SPECS, values)
-        extractor = live.matching(obj.name, live.fingerprint(V, F), kwargs)
+        extractor = live.matching(obj.name, V, F, kwargs)
         if extractor is None:
             return
         skeleton = extractor.skeleton()
@@ -257,7 +257,7 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
     def compute(self, engine, mesh_obj, V, F, kwargs):
         # The previewed skeleton when the preview was made of these triangles with these
         # options (a moved Tau slider included): what the user looked at is what gets bound.
-        previewed = live.matching(mesh_obj.name, live.fingerprint(V, F), kwargs)
+        previewed = live.matching(mesh_obj.name, V, F, kwargs)
         self._previewed = previewed is not None
         if previewed is None:
             return _run_extractor(engine)

@@ -9,7 +9,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.append(str(REPO / "scripts"))  # the shapes of the stress set
-from make_stress_set import uv_sphere  # noqa: E402,F401 - the tests import it from here
+from make_stress_set import combine, uv_sphere  # noqa: E402,F401 - the tests import them here
 
 
 @pytest.fixture(scope="session")

@@ -121,10 +121,10 @@ def test_the_kept_preview_is_reused_only_for_the_same_mesh_and_options(repo):
     try:
         moved = V.copy()
         moved[0, 0] += 1e-6
-        assert live.matching("spot", live.fingerprint(moved, F), options) is None
-        assert live.matching("cow", live.fingerprint(V, F), options) is None
-        assert live.matching("spot", live.fingerprint(V, F), {**options, "samples": 900}) is None
-        assert live.matching("spot", live.fingerprint(V, F), {**options, "tau": 0.95}) is extractor
+        assert live.matching("spot", moved, F, options) is None
+        assert live.matching("cow", V, F, options) is None
+        assert live.matching("spot", V, F, {**options, "samples": 900}) is None
+        assert live.matching("spot", V, F, {**options, "tau": 0.95}) is extractor
         assert extractor.options["tau"] == 0.95  # retuned to the asked tau
         live.forget()
         assert live.kept_for("spot") is None

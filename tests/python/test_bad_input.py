@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import dcg
-from conftest import cube, uv_sphere
+from conftest import combine, cube, uv_sphere
 
 # Small working meshes and few samples: these tests are about robustness, not quality.
 FAST = {"samples": 400, "target_faces": 1500, "geodesic_sources": 32, "rays": 16,
@@ -38,15 +38,6 @@ def assert_valid_skeleton(s, F):
 def small_sphere(offset=(0, 0, 0), radius=1.0):
     V, F = uv_sphere(rings=8, segments=12, radius=radius)
     return V + np.asarray(offset, dtype=float), F
-
-
-def concat(*meshes):
-    Vs, Fs, n = [], [], 0
-    for V, F in meshes:
-        Vs.append(V)
-        Fs.append(F + n)
-        n += len(V)
-    return np.vstack(Vs), np.vstack(Fs)
 
 
 # --- coordinates and indices ------------------------------------------------------------------
@@ -226,7 +217,7 @@ def test_inconsistent_orientation_is_repaired_or_fixed():
 
 def test_self_intersecting_mesh_gives_a_skeleton():
     # Two spheres passing through each other, concatenated without any boolean.
-    V, F = concat(small_sphere((0, 0, 0)), small_sphere((1.0, 0.3, 0)))
+    V, F = combine(small_sphere((0, 0, 0)), small_sphere((1.0, 0.3, 0)))
     s = dcg.extract_skeleton(V, F, **FAST)
     assert_valid_skeleton(s, F)
     # One sphere with a vertex pushed through the opposite side.
@@ -272,7 +263,7 @@ def test_far_from_origin_mesh_gives_a_skeleton():
 def test_many_separate_shells_give_a_skeleton_or_a_clear_error():
     # 44 shells in a row (like the 'ogre-open' mesh): several components.
     shells = [small_sphere((3.0 * (i % 11), 3.0 * (i // 11), 0), radius=1.0) for i in range(44)]
-    V, F = concat(*shells)
+    V, F = combine(*shells)
     try:
         s = dcg.extract_skeleton(V, F, **FAST)
     except ValueError as error:
@@ -284,7 +275,7 @@ def test_many_separate_shells_give_a_skeleton_or_a_clear_error():
 
 
 def test_tiny_shells_beside_a_big_one():
-    V, F = concat(small_sphere(), *[small_sphere((5 + i, 0, 0), 1e-4) for i in range(5)])
+    V, F = combine(small_sphere(), *[small_sphere((5 + i, 0, 0), 1e-4) for i in range(5)])
     s = dcg.extract_skeleton(V, F, **FAST)
     assert_valid_skeleton(s, F)
 
