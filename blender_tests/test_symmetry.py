@@ -203,6 +203,11 @@ def test_symmetrize_keeps_the_right_side_as_it_is(rig):
         bpy.ops.object.mode_set(mode="OBJECT")
 
 
+def _select_pose_bone(pose_bone, state):
+    """Select a bone in Pose Mode: PoseBone.select from Blender 5.0, Bone.select before."""
+    (pose_bone if hasattr(pose_bone, "select") else pose_bone.bone).select = state
+
+
 def test_paste_pose_flipped_poses_the_mirror_image(rig):
     chains = _mirrored_chains(rig)
     assert len(chains) >= 0.8 * len(rig.pairs())
@@ -212,7 +217,7 @@ def test_paste_pose_flipped_poses_the_mirror_image(rig):
     try:
         lefts = [b for b in rig.arm.pose.bones if b.name.endswith(".L")]
         for bone in rig.arm.pose.bones:
-            bone.bone.select = bone in lefts
+            _select_pose_bone(bone, bone in lefts)
         for i, bone in enumerate(lefts):  # every left bone turned, each a little otherwise
             bone.rotation_mode = "QUATERNION"
             bone.rotation_quaternion = Quaternion((1.0, 0.2 + 0.01 * i, -0.3, 0.1)).normalized()
