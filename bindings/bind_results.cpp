@@ -85,6 +85,7 @@ void bind_prepared(py::module_& m) {
       .field("non_manifold_vertices", &R::non_manifold_vertices)
       .field("orientable", &R::orientable)
       .field("components", &R::components)
+      .field("fin_faces", &R::fin_faces)
       .def_property_readonly("closed_manifold", &R::closed_manifold);
 
   using P = dcg::PreparedMesh;

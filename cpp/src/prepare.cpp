@@ -24,9 +24,11 @@
 //   union of the parts by CGAL's corefinement (union.h): overlapping parts become one surface,
 //   nested ones vanish, disjoint ones stay separate shells, and the surface is the input's own.
 //   It costs 10-90 ms on the multi-part game characters and pinched meshes where the wrap below
-//   took 2-4 s. A pinched mesh of one part is only split. Anything else (an open part, one to be
-//   united that crosses itself, non-manifold edges, a union that fails) is wrapped, which gives
-//   the same kind of result (the union, disjoint parts as shells).
+//   took 2-4 s. A pinched mesh of one part is only split. Non-manifold edges where zero-volume
+//   fins or inner walls hang on closed parts (fins.h: Q_Wasp's one-quad wings, Q_Frog's discs
+//   under its warts) lose those sheets and are united the same way. Anything else (an open
+//   part, one to be united that crosses itself, other non-manifold edges, a union that fails) is
+//   wrapped, which gives the same kind of result (the union, disjoint parts as shells).
 // - Wrap size: alpha = 1/100 of the diagonal (keeps fingers and thin limbs apart), raised to
 //   0.6 x the diagonal of the largest hole (border loop) so the wrapping ball cannot enter the
 //   hole and wrap both sides of an open sheet (a hollow shell has a useless medial axis), capped
@@ -66,6 +68,7 @@
 #include "dcg/surface_query.h"
 #include "decimate.h"
 #include "edge_table.h"
+#include "fins.h"
 #include "mesh_topology.h"
 #include "polling.h"
 #include "remesh.h"
@@ -322,6 +325,30 @@ void wrap(const Mesh& mesh, double alpha, ThrottledProgress& poll, PreparedMesh&
   out.wrap_alpha = alpha;
 }
 
+// out.working = the union of the closed parts of `mesh` (union.h); false when they are not all
+// closed solids or the union fails.
+bool unite_closed_parts(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
+  std::optional<Mesh> united = internal::union_of_closed_parts(mesh, poll.part(0.1, 0.3));
+  if (!united) return false;
+  out.working = std::move(*united);
+  out.repaired = true;
+  return true;
+}
+
+// The union of what is left of `mesh` without its fins and inner walls (fins.h), when that is
+// closed parts that orient consistently; out.report.fin_faces counts the faces left out.
+bool unite_without_fins(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
+  std::optional<internal::FinlessMesh> finless = internal::drop_fins(mesh, [&] { poll(0.1); });
+  if (!finless) return false;
+  Mesh& kept = finless->mesh;
+  const internal::Topology topo = internal::analyze_topology(kept.V, kept.F);
+  if (topo.border_edges != 0 || topo.non_manifold_edges != 0) return false;
+  if (!internal::orient_outward(kept.V, kept.F, topo).orientable) return false;
+  if (!unite_closed_parts(kept, poll, out)) return false;
+  out.report.fin_faces = finless->dropped_faces;
+  return true;
+}
+
 // out.working: `clean` itself when it is a single closed manifold, else (Repair::Auto) its alpha
 // wrap, sized to the largest hole (see the top of this file); Repair::None throws instead.
 void make_working_mesh(Mesh clean, bool closed, double largest_hole, const PrepareOptions& options,
@@ -337,12 +364,9 @@ void make_working_mesh(Mesh clean, bool closed, double largest_hole, const Prepa
   const MeshReport& r = out.report;
   if (r.border_edges == 0 && r.non_manifold_edges == 0 && r.orientable) {
     // Only several parts or pinched vertices: the union of the parts when each is a closed solid.
-    if (std::optional<Mesh> united = internal::union_of_closed_parts(clean, poll.part(0.1, 0.3))) {
-      out.working = std::move(*united);
-      out.repaired = true;
-      return;
-    }
+    if (unite_closed_parts(clean, poll, out)) return;
   }
+  if (r.non_manifold_edges > 0 && unite_without_fins(clean, poll, out)) return;
   double alpha = std::clamp(0.6 * largest_hole, 0.01, 0.1);
   if (r.border_edges == 0) alpha = 0.01;
   wrap(clean, alpha, poll, out);

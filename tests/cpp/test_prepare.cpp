@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -19,6 +20,7 @@
 // Internal steps of stage 0 (not installed headers).
 #include "../../cpp/src/compact_mesh.h"
 #include "../../cpp/src/decimate.h"
+#include "../../cpp/src/fins.h"
 #include "../../cpp/src/mesh_topology.h"
 
 namespace {
@@ -461,6 +463,88 @@ TEST(Repair, AnOpenPartSendsTheWholeMeshToTheWrap) {
   EXPECT_TRUE(pm.repaired);
   EXPECT_GT(pm.wrap_alpha, 0);
   EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+}
+
+// `m` with a one-quad fin (two triangles, zero volume) hung outward on the edge F(0,0)-F(0,1).
+Mesh with_fin(const Mesh& m) {
+  const int a = m.F(0, 0), b = m.F(0, 1), n = static_cast<int>(m.V.rows());
+  Mesh out = m;
+  out.V.conservativeResize(n + 2, 3);
+  out.V.row(n) = 1.5 * m.V.row(a);
+  out.V.row(n + 1) = 1.5 * m.V.row(b);
+  out.F.conservativeResize(m.F.rows() + 2, 3);
+  out.F.row(m.F.rows()) << a, b, n + 1;
+  out.F.row(m.F.rows() + 1) << a, n + 1, n;
+  return out;
+}
+
+// A 2 x 1 x 1 box of unit squares divided in two by an inner wall at x = 1: the wall's four
+// edges have three faces each.
+Mesh box_with_wall() {
+  std::vector<Eigen::Vector3d> V;
+  for (int x = 0; x < 3; ++x)
+    for (int y = 0; y < 2; ++y)
+      for (int z = 0; z < 2; ++z) V.emplace_back(x, y, z);
+  auto id = [](int x, int y, int z) { return 4 * x + 2 * y + z; };
+  std::vector<std::array<int, 3>> F;
+  auto square = [&](int a, int b, int c, int d) {
+    F.push_back({a, b, c});
+    F.push_back({a, c, d});
+  };
+  for (int x : {0, 1, 2})
+    square(id(x, 0, 0), id(x, 1, 0), id(x, 1, 1), id(x, 0, 1));  // x = 1: wall
+  for (int x = 0; x < 2; ++x) {
+    square(id(x, 0, 0), id(x, 0, 1), id(x + 1, 0, 1), id(x + 1, 0, 0));
+    square(id(x, 1, 0), id(x + 1, 1, 0), id(x + 1, 1, 1), id(x, 1, 1));
+    square(id(x, 0, 0), id(x + 1, 0, 0), id(x + 1, 1, 0), id(x, 1, 0));
+    square(id(x, 0, 1), id(x, 1, 1), id(x + 1, 1, 1), id(x + 1, 0, 1));
+  }
+  return test::make_mesh(V, F);
+}
+
+TEST(Fins, AFinAndAnInnerWallAreDroppedAndTheClosedPartsKept) {
+  const Mesh sphere = test::icosphere(2);
+  const auto fin = dcg::internal::drop_fins(with_fin(sphere));
+  ASSERT_TRUE(fin.has_value());
+  EXPECT_EQ(fin->dropped_faces, 2);
+  EXPECT_EQ(fin->mesh.F.rows(), sphere.F.rows());
+  EXPECT_EQ(fin->mesh.V.rows(), sphere.V.rows()) << "the fin's own vertices go with it";
+  const auto wall = dcg::internal::drop_fins(box_with_wall());
+  ASSERT_TRUE(wall.has_value());
+  EXPECT_EQ(wall->dropped_faces, 2) << "the wall, not one of the half boxes it divides";
+  EXPECT_EQ(wall->mesh.F.rows(), 20);
+  const dcg::internal::Topology t = dcg::internal::analyze_topology(wall->mesh.V, wall->mesh.F);
+  EXPECT_EQ(t.border_edges + t.non_manifold_edges, 0);
+  EXPECT_EQ(t.components, 1);
+}
+
+TEST(Fins, NothingIsDroppedWhenTheRestIsNotClosedOrThereIsNoFin) {
+  EXPECT_FALSE(dcg::internal::drop_fins(test::icosphere(2)).has_value()) << "no fin";
+  EXPECT_FALSE(
+      dcg::internal::drop_fins(with_fin(test::cut_above(test::icosphere(2), 0.5))).has_value())
+      << "the part the fin hangs on is open";
+  // Three triangles on one edge and nothing closed: dropping would leave a hole.
+  const Mesh sheets = test::make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
+                                      {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  EXPECT_FALSE(dcg::internal::drop_fins(sheets).has_value());
+}
+
+// Stage 0 unites what is left instead of wrapping, and says how many faces it left out.
+TEST(Repair, FinsOnClosedPartsAreDroppedAndThePartsUnitedNotWrapped) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Mesh parts = test::merged(with_fin(test::icosphere(3)),
+                                  test::transformed(test::icosphere(2), I, 0.5, {3, 0, 0}));
+  dcg::PrepareOptions o;
+  o.target_faces = 0;
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, o);
+  EXPECT_EQ(pm.report.non_manifold_edges, 1);
+  EXPECT_EQ(pm.report.fin_faces, 2);
+  EXPECT_TRUE(pm.repaired);
+  EXPECT_EQ(pm.wrap_alpha, 0) << "united, not wrapped";
+  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+  EXPECT_EQ(test::component_count(pm.working), 2);
+  EXPECT_EQ(pm.working.F.rows(), parts.F.rows() - 2) << "the input's own faces but the fin's";
+  EXPECT_EQ(pm.map_face.size(), parts.V.rows()) << "the fin's vertices are mapped too";
 }
 
 // The public open meshes of ../shared/meshes (DCG_MESHES).

@@ -60,6 +60,9 @@ struct MeshReport {
   int non_manifold_vertices = 0;  ///< vertices whose faces form several fans (pinched)
   int components = 0;             ///< connected components (over shared edges)
   bool orientable = true;         ///< faces can be oriented consistently over shared edges
+  /// Faces of zero-volume fins and inner walls (hung on closed parts along non-manifold edges)
+  /// left out of the working mesh, which is then the union of those parts (no wrap).
+  int fin_faces = 0;
   bool closed_manifold() const {
     return border_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 && orientable;
   }
