@@ -106,6 +106,7 @@ struct SurfaceQuery::Impl {
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normal;
   double diag = 1.0;
   double margin = 1e-5;  // search margin against float rounding of the BVH (1e-5 x diag)
+  double prune_tolerance = 1e-9;  // rounding allowance of the plane test (1e-9 x diag)
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -124,10 +125,17 @@ struct SurfaceQuery::Impl {
     auto* c = static_cast<Closest*>(args->userPtr);
     const Mesh& m = c->self->mesh;
     const int f = static_cast<int>(args->primID);
+    const Eigen::Vector3d a = m.V.row(m.F(f, 0)).transpose();
+    // The distance to the triangle's plane bounds the distance to the triangle from below: a
+    // triangle whose plane is farther than the best point so far cannot hold a better one. Most
+    // triangles the BVH hands over are such (a Voronoi ball's sphere hugs the surface around its
+    // contact points), and the test costs a tenth of the closest point. Kept 1e-9 x the diagonal
+    // on the safe side of rounding.
+    const double plane = std::abs(c->self->face_normal[f].dot(c->p - a));
+    if (plane - c->self->prune_tolerance > c->best) return false;
     std::array<double, 3> l;
-    const Eigen::Vector3d q =
-        closest_on_triangle(c->p, m.V.row(m.F(f, 0)).transpose(), m.V.row(m.F(f, 1)).transpose(),
-                            m.V.row(m.F(f, 2)).transpose(), l);
+    const Eigen::Vector3d q = closest_on_triangle(c->p, a, m.V.row(m.F(f, 1)).transpose(),
+                                                  m.V.row(m.F(f, 2)).transpose(), l);
     const double d = (q - c->p).norm();
     if (d < c->best || (c->face < 0 && d <= c->best)) {
       c->best = d;
@@ -260,6 +268,7 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
   if (!(m.diag > 0) || !std::isfinite(m.diag)) m.diag = 1.0;
   m.center = 0.5 * (lo + hi);
   m.margin = 1e-5 * m.diag;
+  m.prune_tolerance = 1e-9 * m.diag;
   // Large arrays are filled in chunks between polls: on a million faces, first touching their
   // memory alone takes a good part of a second.
   constexpr int kChunk = 1 << 16;

@@ -10,7 +10,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <exception>
+#include <functional>
+#include <optional>
 #include <iterator>
 #include <numeric>
 #include <utility>
@@ -26,6 +29,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/centroid.h>
+#include <tbb/parallel_for.h>
 
 #include "dcg/errors.h"
 #include "surface_mesh_convert.h"
@@ -136,6 +140,45 @@ std::vector<std::vector<std::size_t>> overlapping_groups(const std::vector<SM>& 
   return groups;
 }
 
+// Whether test(part) holds for every part; the parts are tested in parallel (each test changes
+// only its own part).
+template <class Test>
+bool all_of_parts(std::vector<SM>& parts, Test test) {
+  std::atomic<bool> all{true};
+  tbb::parallel_for(std::size_t{0}, parts.size(), [&](std::size_t i) {
+    if (all.load(std::memory_order_relaxed) && !test(parts[i])) all = false;
+  });
+  return all;
+}
+
+// The union of `parts` by corefinement, pairwise in rounds (1+2, 3+4, ... then the results),
+// each round's pairs in parallel and `poll` called between rounds (from this thread only):
+// about half the time of uniting them one after the other into a growing mesh on 2 cores
+// (biped-30k, 8 parts). nullopt when a corefinement fails; CGAL's exceptions are passed on.
+std::optional<SM> unite_all(std::vector<SM> level, const std::function<void(double)>& poll) {
+  double round = 0;
+  while (level.size() > 1) {
+    poll(0.3 + 0.6 * (1 - 1 / (1 + ++round)));
+    const std::size_t pairs = level.size() / 2;
+    std::vector<SM> next(pairs);
+    std::vector<char> ok(pairs, 0);
+    std::vector<std::exception_ptr> error(pairs);
+    tbb::parallel_for(std::size_t{0}, pairs, [&](std::size_t p) {
+      try {
+        ok[p] = PMP::corefine_and_compute_union(level[2 * p], level[2 * p + 1], next[p]);
+      } catch (...) {
+        error[p] = std::current_exception();
+      }
+    });
+    for (const auto& e : error)
+      if (e) std::rethrow_exception(e);
+    if (std::find(ok.begin(), ok.end(), 0) != ok.end()) return std::nullopt;
+    if (level.size() % 2) next.push_back(std::move(level.back()));
+    level = std::move(next);
+  }
+  return std::move(level.front());
+}
+
 // `mesh` with its vertices in lexicographic order of position and its faces, each starting at
 // its smallest vertex, in lexicographic order of corners: the same surface whatever order
 // CGAL's corefinement made it in. (It does not keep one: its box intersection draws from CGAL's
@@ -181,32 +224,22 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
   poll(0.1);
   std::vector<SM> parts;
   PMP::split_connected_components(whole, parts);
-  for (SM& part : parts) {
-    if (!closed_solid(part)) return std::nullopt;
-  }
+  if (!all_of_parts(parts, closed_solid)) return std::nullopt;
   poll(0.3);
-  Mesh out;
   std::vector<Mesh> shells;
-  const auto groups = overlapping_groups(parts);
-  std::size_t done = 0;
   try {
-    for (const auto& group : groups) {
-      SM united = parts[group[0]];
-      if (group.size() > 1) {
-        // Corefinement needs parts that do not cross themselves.
-        for (std::size_t i : group)
-          if (crosses_itself(parts[i])) return std::nullopt;
-      }
-      for (std::size_t k = 1; k < group.size(); ++k) {
-        poll(0.3 + 0.6 * static_cast<double>(done++) / static_cast<double>(parts.size()));
-        SM result;
-        if (!PMP::corefine_and_compute_union(united, parts[group[k]], result)) return std::nullopt;
-        united = std::move(result);
-      }
-      if (group.size() > 1 && (!CGAL::is_closed(united) || crosses_itself(united))) {
+    for (const auto& group : overlapping_groups(parts)) {
+      std::vector<SM> level;
+      for (std::size_t i : group) level.push_back(std::move(parts[i]));
+      // Corefinement needs parts that do not cross themselves.
+      if (level.size() > 1 && !all_of_parts(level, [](SM& p) { return !crosses_itself(p); }))
+        return std::nullopt;
+      std::optional<SM> united = unite_all(std::move(level), poll);
+      if (!united) return std::nullopt;
+      if (group.size() > 1 && (!CGAL::is_closed(*united) || crosses_itself(*united))) {
         return std::nullopt;
       }
-      shells.push_back(mesh_from_surface_mesh(united, "the union of the parts"));
+      shells.push_back(mesh_from_surface_mesh(*united, "the union of the parts"));
     }
   } catch (const Cancelled&) {
     throw;
@@ -216,6 +249,7 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
     return std::nullopt;
   }
   poll(0.9);
+  Mesh out;
   Eigen::Index nv = 0, nf = 0;
   for (const Mesh& s : shells) {
     nv += s.V.rows();
