@@ -105,7 +105,7 @@ struct SurfaceQuery::Impl {
   // Edge pseudo-normals: per face corner k, the edge (F(f,k), F(f,(k+1)%3)).
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normal;
   double diag = 1.0;
-  double margin = 1e-5;  // search margin against float rounding of the BVH (1e-5 x diag)
+  double margin = 1e-5;           // search margin against float rounding of the BVH (1e-5 x diag)
   double prune_tolerance = 1e-9;  // rounding allowance of the plane test (1e-9 x diag)
 
   ~Impl() {

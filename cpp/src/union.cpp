@@ -13,9 +13,9 @@
 #include <atomic>
 #include <exception>
 #include <functional>
-#include <optional>
 #include <iterator>
 #include <numeric>
+#include <optional>
 #include <utility>
 #include <vector>
 
