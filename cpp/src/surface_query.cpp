@@ -405,7 +405,9 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
       rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
-    internal::intersect8(valid, m.scene, &rh, /*coherent=*/true);  // one origin
+    // One origin, but the directions of a fan spread over the whole sphere: Embree's coherent
+    // hint (the packet's rays traverse the BVH together) made every fan 1.6x slower.
+    internal::intersect8(valid, m.scene, &rh, /*coherent=*/false);
     for (int k = 0; k < n; ++k) {
       const bool hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
       t[start + k] =
