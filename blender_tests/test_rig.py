@@ -148,6 +148,30 @@ def test_open_mesh_is_repaired_by_default():
     assert len(armatures()) == 1
 
 
+def _printed(capfd):
+    """What Blender printed since the last call (background Blender prints operator reports
+    as "Warning: ..." / "Info: ...")."""
+    out, err = capfd.readouterr()
+    return out + err
+
+
+def test_rig_and_preview_say_how_they_repaired_the_mesh(capfd):
+    V, F = capsule()
+    add_mesh("open capsule", V, F[:-6])
+    _printed(capfd)
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    text = _printed(capfd)
+    assert "DCG: the mesh has" in text and "alpha wrap" in text
+    two = np.vstack([V, V + [3.0, 0, 0]]), np.vstack([F, F + len(V)])
+    add_mesh("two capsules", *two)
+    assert bpy.ops.object.dcg_preview() == {"FINISHED"}
+    assert "DCG: the mesh has 2 parts: skeleton of the union of its closed parts" in _printed(
+        capfd)
+    add_mesh("capsule", V, F)
+    assert bpy.ops.object.dcg_preview() == {"FINISHED"}
+    assert "the mesh has" not in _printed(capfd), "a closed mesh is used as it is"
+
+
 def test_rig_needs_an_active_mesh():
     bpy.context.view_layer.objects.active = None
     with pytest.raises(RuntimeError, match="context is incorrect|select a mesh"):

@@ -211,6 +211,18 @@ def _run_extractor(engine):
     return run
 
 
+def _report_repair(operator, extractor):
+    """Tell the user what stage 0 did to a mesh that is not one closed manifold: a warning when
+    the skeleton is of a proxy (the alpha wrap) or faces were left out (fins), else for
+    information (the union of closed parts keeps the mesh's own surface)."""
+    prepared = extractor.prepare()
+    summary = _engine.require().repair_summary(prepared)
+    if summary is None:
+        return
+    proxy = prepared.wrap_alpha > 0 or prepared.report.get("fin_faces", 0) > 0
+    operator.report({"WARNING" if proxy else "INFO"}, f"DCG: {summary}")
+
+
 def _skeleton_of(extractor):
     """Return `extractor` once its skeleton exists (computed here if it was retuned)."""
     extractor.skeleton()
@@ -272,6 +284,7 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
         arm_obj = result.armature
         arm_obj["dcg_timings"] = {k: float(v) for k, v in skeleton.timings.items()}
         arm_obj["dcg_method"] = skeleton.method
+        _report_repair(self, extractor)
         for warning in result.warnings:
             self.report({"WARNING"}, f"DCG: {warning}")
         source = "the previewed skeleton, " if self._previewed else ""
@@ -299,6 +312,7 @@ class OBJECT_OT_dcg_preview(_EngineOperator, bpy.types.Operator):
         preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
         name, mesh_fingerprint, kwargs = self._kept_as
         live.remember(name, mesh_fingerprint, kwargs, extractor)  # for the Tau slider and Rig
+        _report_repair(self, extractor)
         self.report({"INFO"}, f"DCG: {len(skeleton.positions)} nodes "
                               f"({_kind_counts(skeleton.kinds)}), {len(skeleton.links)} links "
                               f"in {self.elapsed:.2f} s")

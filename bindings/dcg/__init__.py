@@ -62,7 +62,7 @@ __all__ = [
     "Cancelled", "Extractor", "OPTIONS", "OptionInfo", "Skeleton", "FORMAT", "Balls",
     "PreparedMesh", "Prongs", "extract_skeleton", "load_mesh", "as_mesh",
     "SkinWeights", "skin_weights", "BoneHeat", "ProngHierarchy", "DomainBalls", "EndPoints",
-    "Field", "FieldSamples", "ConnectionPoints", "DomainGraph", "Remapped",
+    "Field", "FieldSamples", "ConnectionPoints", "DomainGraph", "Remapped", "repair_summary",
 ]
 __version__ = "0.1.0"
 
@@ -99,6 +99,37 @@ def as_mesh(V, F) -> Tuple[np.ndarray, np.ndarray]:
                 F != np.round(F)):
             raise ValueError(f"F must hold integer vertex indices, got dtype {F.dtype}")
     return V, np.ascontiguousarray(F, dtype=np.int64)
+
+
+def repair_summary(prepared) -> Optional[str]:
+    """What stage 0 did to a mesh that is not one closed manifold, in a sentence for the user
+    (the add-on's report, the CLI), or None when the mesh was used as it is.
+
+    prepared: a dcg.PreparedMesh (Extractor.prepare()). The union of closed parts keeps the
+    input's own surface; fins left out and the alpha wrap (a closed proxy) are said so.
+    """
+    if not prepared.repaired:
+        return None
+    r = prepared.report
+    problems = []
+    if r["components"] > 1:
+        problems.append(f"{r['components']} parts")
+    if r["border_edges"]:
+        problems.append(f"{r['border_edges']} border edges in {r['border_loops']} holes")
+    if r["non_manifold_edges"]:
+        problems.append(f"{r['non_manifold_edges']} non-manifold edges")
+    if r["non_manifold_vertices"]:
+        problems.append(f"{r['non_manifold_vertices']} pinched vertices")
+    if not r["orientable"]:
+        problems.append("a non-orientable surface")
+    found = "the mesh has " + (", ".join(problems) or "no single closed surface")
+    if prepared.wrap_alpha > 0:
+        return (f"{found}: skeleton of its alpha wrap, a closed proxy that smooths over "
+                f"details below {prepared.wrap_alpha:.1%} of the bounding-box diagonal")
+    fins = r.get("fin_faces", 0)
+    left_out = (f", leaving out {fins} faces of zero-volume fins or inner walls"
+                if fins else "")
+    return f"{found}: skeleton of the union of its closed parts{left_out}"
 
 
 class Extractor:

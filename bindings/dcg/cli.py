@@ -7,7 +7,7 @@ import argparse
 import sys
 from typing import List, Optional
 
-from . import OPTIONS, bones, extract_skeleton, load_mesh
+from . import OPTIONS, Extractor, bones, load_mesh, repair_summary
 from .options import SKELETON_OPTIONS
 
 
@@ -93,13 +93,16 @@ def run_skeleton(args: argparse.Namespace) -> int:
     options = {name: getattr(args, name) for name in SKELETON_OPTIONS
                if getattr(args, name) is not None}
     V, F = load_mesh(args.input)
-    skeleton = extract_skeleton(V, F, **options)
+    extractor = Extractor(V, F, **options)
+    skeleton = extractor.skeleton()
     with open(args.output, "w", encoding="utf-8") as out:
         out.write(skeleton.to_json(indent=args.indent))
     if not args.quiet:
         counts = {k: int((skeleton.kinds == k).sum()) for k in ("end", "joint", "connection")}
-        print(f"{args.input}: {len(V)} vertices, {len(F)} faces, genus {skeleton.genus}"
-              f"{' (repaired)' if skeleton.repaired else ''}")
+        print(f"{args.input}: {len(V)} vertices, {len(F)} faces, genus {skeleton.genus}")
+        repair = repair_summary(extractor.prepare())
+        if repair:
+            print(f"repaired: {repair}")
         print(f"skeleton ({skeleton.method}): {skeleton.node_count} nodes "
               f"({counts['end']} end, {counts['joint']} joint, {counts['connection']} "
               f"connection), {len(skeleton.links)} links -> {args.output}")

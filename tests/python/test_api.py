@@ -198,3 +198,21 @@ def test_retune_reruns_only_the_stages_after_the_prongs(spot):
     with pytest.raises(ValueError):
         ex.retune(1.5)
     assert ex.options["tau"] == 0.95
+
+
+def test_repair_summary_says_what_stage_0_did(meshes_dir):
+    from conftest import combine, uv_sphere
+
+    V, F = uv_sphere()
+    assert dcg.repair_summary(dcg.Extractor(V, F).prepare()) is None, "used as it is"
+    V2, F2 = combine((V, F), (V + [3.0, 0, 0], F))
+    united = dcg.repair_summary(dcg.Extractor(V2, F2).prepare())
+    assert united.startswith("the mesh has 2 parts") and "union of its closed parts" in united
+    V, F = cube(open_faces=2)
+    wrapped = dcg.repair_summary(dcg.Extractor(V, F).prepare())
+    assert "border edges" in wrapped and "alpha wrap" in wrapped
+    # Q_Wasp's wings are one-quad fins on non-manifold edges: left out, and said so.
+    V, F = dcg.load_mesh(meshes_dir / "rigged" / "Q_Wasp.obj")
+    prepared = dcg.Extractor(V, F).prepare()
+    assert prepared.wrap_alpha == 0 and prepared.report["fin_faces"] == 4
+    assert "leaving out 4 faces of zero-volume fins" in dcg.repair_summary(prepared)

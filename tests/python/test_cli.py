@@ -29,6 +29,16 @@ def test_cli_writes_json_and_prints_timings(repo, tmp_path):
     assert "total" in result.stdout and "prepare" in result.stdout
 
 
+def test_cli_says_how_it_repaired_a_mesh(meshes_dir, tmp_path):
+    out = tmp_path / "wasp.json"
+    result = run_cli("skeleton", meshes_dir / "rigged" / "Q_Wasp.obj", "-o", out)
+    assert result.returncode == 0, result.stderr
+    assert "repaired: the mesh has 13 parts" in result.stdout
+    assert "union of its closed parts" in result.stdout
+    result = run_cli("skeleton", meshes_dir / "hand.obj", "-o", out)
+    assert "repaired:" not in result.stdout
+
+
 def test_cli_on_public_hand(meshes_dir, tmp_path):
     out = tmp_path / "hand.json"
     result = run_cli("skeleton", meshes_dir / "hand.obj", "-o", out)
