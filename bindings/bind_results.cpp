@@ -86,6 +86,7 @@ void bind_prepared(py::module_& m) {
       .field("orientable", &R::orientable)
       .field("components", &R::components)
       .field("fin_faces", &R::fin_faces)
+      .field("filled_holes", &R::filled_holes)
       .def_property_readonly("closed_manifold", &R::closed_manifold);
 
   using P = dcg::PreparedMesh;

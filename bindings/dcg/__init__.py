@@ -113,23 +113,32 @@ def repair_summary(prepared) -> Optional[str]:
     r = prepared.report
     problems = []
     if r["components"] > 1:
-        problems.append(f"{r['components']} parts")
+        problems.append(_count(r["components"], "part"))
     if r["border_edges"]:
-        problems.append(f"{r['border_edges']} border edges in {r['border_loops']} holes")
+        problems.append(f"{_count(r['border_edges'], 'border edge')} in "
+                        f"{_count(r['border_loops'], 'hole')}")
     if r["non_manifold_edges"]:
-        problems.append(f"{r['non_manifold_edges']} non-manifold edges")
+        problems.append(_count(r["non_manifold_edges"], "non-manifold edge"))
     if r["non_manifold_vertices"]:
-        problems.append(f"{r['non_manifold_vertices']} pinched vertices")
+        problems.append(_count(r["non_manifold_vertices"], "pinched vertex").replace(
+            "vertexs", "vertices"))
     if not r["orientable"]:
         problems.append("a non-orientable surface")
     found = "the mesh has " + (", ".join(problems) or "no single closed surface")
     if prepared.wrap_alpha > 0:
         return (f"{found}: skeleton of its alpha wrap, a closed proxy that smooths over "
                 f"details below {prepared.wrap_alpha:.1%} of the bounding-box diagonal")
-    fins = r.get("fin_faces", 0)
-    left_out = (f", leaving out {fins} faces of zero-volume fins or inner walls"
-                if fins else "")
-    return f"{found}: skeleton of the union of its closed parts{left_out}"
+    fins, holes = r.get("fin_faces", 0), r.get("filled_holes", 0)
+    done = ""
+    if fins:
+        done += f", leaving out {fins} faces of zero-volume fins or inner walls"
+    if holes:
+        done += f", once its {_count(holes, 'hole')} {'is' if holes == 1 else 'are'} filled"
+    return f"{found}: skeleton of the union of its closed parts{done}"
+
+
+def _count(n: int, thing: str) -> str:
+    return f"{n} {thing}" if n == 1 else f"{n} {thing}s"
 
 
 class Extractor:

@@ -28,7 +28,11 @@
 //   fins or inner walls hang on closed parts (fins.h: Q_Wasp's one-quad wings, Q_Frog's discs
 //   under its warts) lose those sheets and are united the same way. Anything else (an open
 //   part, one to be united that crosses itself, other non-manifold edges, a union that fails) is
-//   wrapped, which gives the same kind of result (the union, disjoint parts as shells).
+//   wrapped, which gives the same kind of result (the union, disjoint parts as shells). Before
+//   that, a mesh whose holes are all small (bounding box at most 1/10 of the diagonal, at most
+//   256 edges: an eye socket, a neck opening, a cut at a scan's base) gets them triangulated
+//   and is united the same way: a wrap sized to such a hole smoothed over 4-7% of the diagonal
+//   (Q_Male_Casual, Mannequiny, wolf-open), fingers and thin limbs with it.
 // - Wrap size: alpha = 1/100 of the diagonal (keeps fingers and thin limbs apart), raised to
 //   0.6 x the diagonal of the largest hole (border loop) so the wrapping ball cannot enter the
 //   hole and wrap both sides of an open sheet (a hollow shell has a useless medial axis), capped
@@ -349,6 +353,27 @@ bool unite_without_fins(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh&
   return true;
 }
 
+// Holes that stage 0 fills (above either, the mesh is wrapped): bounding-box diagonal (of the
+// mesh's diagonal, which is 1 here) and edges of the border loop.
+constexpr double kMaxFilledHole = 0.1;
+constexpr int kMaxFilledHoleEdges = 256;
+
+// The union of the closed parts that `mesh` makes once its holes are filled, when each hole is
+// small (kMaxFilledHole, kMaxFilledHoleEdges); out.report.filled_holes counts them.
+bool unite_with_holes_filled(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
+  std::optional<internal::FilledMesh> filled =
+      internal::fill_small_holes(mesh, kMaxFilledHole, kMaxFilledHoleEdges);
+  poll(0.1);
+  if (!filled) return false;
+  Mesh& closed = filled->mesh;
+  const internal::Topology topo = internal::analyze_topology(closed.V, closed.F);
+  if (topo.border_edges != 0 || topo.non_manifold_edges != 0) return false;
+  if (!internal::orient_outward(closed.V, closed.F, topo).orientable) return false;
+  if (!unite_closed_parts(closed, poll, out)) return false;
+  out.report.filled_holes = filled->holes;
+  return true;
+}
+
 // out.working: `clean` itself when it is a single closed manifold, else (Repair::Auto) its alpha
 // wrap, sized to the largest hole (see the top of this file); Repair::None throws instead.
 void make_working_mesh(Mesh clean, bool closed, double largest_hole, const PrepareOptions& options,
@@ -367,6 +392,8 @@ void make_working_mesh(Mesh clean, bool closed, double largest_hole, const Prepa
     if (unite_closed_parts(clean, poll, out)) return;
   }
   if (r.non_manifold_edges > 0 && unite_without_fins(clean, poll, out)) return;
+  if (r.border_edges > 0 && r.non_manifold_edges == 0 && unite_with_holes_filled(clean, poll, out))
+    return;
   double alpha = std::clamp(0.6 * largest_hole, 0.01, 0.1);
   if (r.border_edges == 0) alpha = 0.01;
   wrap(clean, alpha, poll, out);

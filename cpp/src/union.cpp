@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <exception>
 #include <functional>
 #include <iterator>
@@ -21,12 +22,14 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/centroid.h>
 #include <tbb/parallel_for.h>
@@ -265,6 +268,50 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
     nf += s.F.rows();
   }
   return canonical_order(out);
+}
+
+std::optional<FilledMesh> fill_small_holes(const Mesh& mesh, double max_diagonal, int max_edges) {
+  std::vector<Point> points;
+  points.reserve(static_cast<std::size_t>(mesh.V.rows()));
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    points.emplace_back(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2));
+  std::vector<std::array<std::size_t, 3>> faces(static_cast<std::size_t>(mesh.F.rows()));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) faces[f][k] = static_cast<std::size_t>(mesh.F(f, k));
+  if (!PMP::is_polygon_soup_a_polygon_mesh(faces)) return std::nullopt;
+  SM sm;
+  PMP::polygon_soup_to_polygon_mesh(points, faces, sm);
+  std::vector<SM::Halfedge_index> cycles;
+  PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
+  if (cycles.empty()) return std::nullopt;
+  // Every hole small enough first, so that a large one leaves the mesh untouched.
+  for (const SM::Halfedge_index start : cycles) {
+    CGAL::Bbox_3 box;
+    int edges = 0;
+    for (const SM::Halfedge_index h : CGAL::halfedges_around_face(start, sm)) {
+      box += sm.point(sm.target(h)).bbox();
+      if (++edges > max_edges) return std::nullopt;
+    }
+    const double dx = box.xmax() - box.xmin(), dy = box.ymax() - box.ymin(),
+                 dz = box.zmax() - box.zmin();
+    if (std::sqrt(dx * dx + dy * dy + dz * dz) > max_diagonal) return std::nullopt;
+  }
+  FilledMesh out;
+  const std::size_t before = sm.number_of_faces();
+  try {
+    for (const SM::Halfedge_index start : cycles) {
+      std::vector<SM::Face_index> patch;
+      PMP::triangulate_hole(sm, start, std::back_inserter(patch));
+      if (patch.empty()) return std::nullopt;
+      ++out.holes;
+    }
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (!CGAL::is_closed(sm)) return std::nullopt;
+  out.added_faces = static_cast<int>(sm.number_of_faces() - before);
+  out.mesh = mesh_from_surface_mesh(sm, "the mesh with its holes filled");
+  return out;
 }
 
 }  // namespace dcg::internal

@@ -1,6 +1,7 @@
-// Internal (not installed): the union of a mesh's closed parts, stage 0's repair of multi-part
-// and pinched input before the alpha wrap (union.cpp; CGAL's corefinement takes long to compile,
-// so it has its own translation unit).
+// Internal (not installed): stage 0's repairs that keep the input's own surface, tried before the
+// alpha wrap: the union of a mesh's closed parts (multi-part and pinched input) and the filling
+// of small holes (union.cpp; CGAL's corefinement takes long to compile, so it has its own
+// translation unit).
 #pragma once
 
 #include <functional>
@@ -25,5 +26,19 @@ namespace dcg::internal {
 /// `poll` (if set) is called between the steps and the unions; it may throw (Cancelled).
 std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
                                           const std::function<void(double)>& poll = {});
+
+/// What fill_small_holes made.
+struct FilledMesh {
+  Mesh mesh;            ///< the input with its holes triangulated
+  int holes = 0;        ///< holes (border loops) filled
+  int added_faces = 0;  ///< faces added to fill them
+};
+
+/// (V, F) with every hole (border loop) triangulated (CGAL's triangulate_hole: the patch of
+/// least area and best angles over the loop's own vertices), when every hole is small: its
+/// bounding-box diagonal at most `max_diagonal` (in V's units) and at most `max_edges` edges.
+/// std::nullopt when there is no hole, some hole is larger, the mesh is not a manifold with
+/// border (non-manifold edges) or a triangulation fails: the caller wraps instead.
+std::optional<FilledMesh> fill_small_holes(const Mesh& mesh, double max_diagonal, int max_edges);
 
 }  // namespace dcg::internal

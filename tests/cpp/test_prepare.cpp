@@ -547,6 +547,28 @@ TEST(Repair, FinsOnClosedPartsAreDroppedAndThePartsUnitedNotWrapped) {
   EXPECT_EQ(pm.map_face.size(), parts.V.rows()) << "the fin's vertices are mapped too";
 }
 
+// A part with a small hole (a cap cut off) is closed by filling the hole and united with the
+// others, not wrapped; a hole too large for that still sends the mesh to the wrap.
+TEST(Repair, SmallHolesAreFilledAndThePartsUnitedNotWrapped) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Mesh open = test::cut_above(test::icosphere(4), 0.99);  // a hole 1/20 of the diagonal
+  const Mesh parts = test::merged(open, test::transformed(test::icosphere(2), I, 0.5, {3, 0, 0}));
+  dcg::PrepareOptions o;
+  o.target_faces = 0;
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, o);
+  EXPECT_GT(pm.report.border_edges, 0);
+  EXPECT_EQ(pm.report.filled_holes, 1);
+  EXPECT_TRUE(pm.repaired);
+  EXPECT_EQ(pm.wrap_alpha, 0) << "filled and united, not wrapped";
+  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+  EXPECT_EQ(test::component_count(pm.working), 2);
+  EXPECT_GT(pm.working.F.rows(), parts.F.rows()) << "the input's faces and the hole's patch";
+  const dcg::PreparedMesh big = dcg::prepare_mesh(test::cut_above(test::icosphere(3), 0.3).V,
+                                                  test::cut_above(test::icosphere(3), 0.3).F, o);
+  EXPECT_EQ(big.report.filled_holes, 0);
+  EXPECT_GT(big.wrap_alpha, 0) << "a hole of most of the diagonal is not filled";
+}
+
 // The public open meshes of ../shared/meshes (DCG_MESHES).
 class OpenMeshFile : public ::testing::TestWithParam<std::string> {};
 

@@ -63,6 +63,9 @@ struct MeshReport {
   /// Faces of zero-volume fins and inner walls (hung on closed parts along non-manifold edges)
   /// left out of the working mesh, which is then the union of those parts (no wrap).
   int fin_faces = 0;
+  /// Holes (border loops) triangulated to close the mesh, which is then the union of its parts
+  /// (no wrap): only when every hole is small.
+  int filled_holes = 0;
   bool closed_manifold() const {
     return border_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 && orientable;
   }
