@@ -160,8 +160,11 @@ def test_rig_and_preview_say_how_they_repaired_the_mesh(capfd):
     add_mesh("open capsule", V, F[:-6])
     _printed(capfd)
     assert rig(weights="ENVELOPE") == {"FINISHED"}
+    assert "the union of its closed parts, once its 1 hole is filled" in _printed(capfd)
+    add_mesh("half a capsule", V, F[: len(F) // 2])
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
     text = _printed(capfd)
-    assert "DCG: the mesh has" in text and "alpha wrap" in text
+    assert "DCG: the mesh has" in text and "alpha wrap" in text, "a hole too large to fill"
     two = np.vstack([V, V + [3.0, 0, 0]]), np.vstack([F, F + len(V)])
     add_mesh("two capsules", *two)
     assert bpy.ops.object.dcg_preview() == {"FINISHED"}
