@@ -41,7 +41,7 @@ def main():
                         help="mesh files or folders (default ../shared/meshes)")
     parser.add_argument("--out", type=Path, default=ROOT / "out" / "bench" / "batch.md")
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
-    cli._add_option_flags(parser)
+    cli._add_option_flags(parser, cli.OPTIONS)
     args = parser.parse_args()
     paths = args.paths or [ROOT.parent / "shared" / "meshes"]
     missing = [str(p) for p in paths if not p.exists()]
