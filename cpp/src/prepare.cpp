@@ -339,16 +339,20 @@ bool unite_closed_parts(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh&
   return true;
 }
 
+// unite_closed_parts of a mesh that a repair step made, once it has checked that every edge has
+// two faces and oriented it (in place).
+bool orient_and_unite(Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
+  const internal::Topology topo = internal::analyze_topology(mesh.V, mesh.F);
+  if (topo.border_edges != 0 || topo.non_manifold_edges != 0) return false;
+  if (!internal::orient_outward(mesh.V, mesh.F, topo).orientable) return false;
+  return unite_closed_parts(mesh, poll, out);
+}
+
 // The union of what is left of `mesh` without its fins and inner walls (fins.h), when that is
 // closed parts that orient consistently; out.report.fin_faces counts the faces left out.
 bool unite_without_fins(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
   std::optional<internal::FinlessMesh> finless = internal::drop_fins(mesh, [&] { poll(0.1); });
-  if (!finless) return false;
-  Mesh& kept = finless->mesh;
-  const internal::Topology topo = internal::analyze_topology(kept.V, kept.F);
-  if (topo.border_edges != 0 || topo.non_manifold_edges != 0) return false;
-  if (!internal::orient_outward(kept.V, kept.F, topo).orientable) return false;
-  if (!unite_closed_parts(kept, poll, out)) return false;
+  if (!finless || !orient_and_unite(finless->mesh, poll, out)) return false;
   out.report.fin_faces = finless->dropped_faces;
   return true;
 }
@@ -364,12 +368,7 @@ bool unite_with_holes_filled(const Mesh& mesh, ThrottledProgress& poll, Prepared
   std::optional<internal::FilledMesh> filled =
       internal::fill_small_holes(mesh, kMaxFilledHole, kMaxFilledHoleEdges);
   poll(0.1);
-  if (!filled) return false;
-  Mesh& closed = filled->mesh;
-  const internal::Topology topo = internal::analyze_topology(closed.V, closed.F);
-  if (topo.border_edges != 0 || topo.non_manifold_edges != 0) return false;
-  if (!internal::orient_outward(closed.V, closed.F, topo).orientable) return false;
-  if (!unite_closed_parts(closed, poll, out)) return false;
+  if (!filled || !orient_and_unite(filled->mesh, poll, out)) return false;
   out.report.filled_holes = filled->holes;
   return true;
 }

@@ -529,6 +529,14 @@ TEST(Fins, NothingIsDroppedWhenTheRestIsNotClosedOrThereIsNoFin) {
   EXPECT_FALSE(dcg::internal::drop_fins(sheets).has_value());
 }
 
+// A repaired working mesh that is the union of `components` closed parts, not a wrap.
+void expect_united_not_wrapped(const dcg::PreparedMesh& pm, int components) {
+  EXPECT_TRUE(pm.repaired);
+  EXPECT_EQ(pm.wrap_alpha, 0) << "united, not wrapped";
+  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+  EXPECT_EQ(test::component_count(pm.working), components);
+}
+
 // Stage 0 unites what is left instead of wrapping, and says how many faces it left out.
 TEST(Repair, FinsOnClosedPartsAreDroppedAndThePartsUnitedNotWrapped) {
   const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
@@ -539,10 +547,7 @@ TEST(Repair, FinsOnClosedPartsAreDroppedAndThePartsUnitedNotWrapped) {
   const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, o);
   EXPECT_EQ(pm.report.non_manifold_edges, 1);
   EXPECT_EQ(pm.report.fin_faces, 2);
-  EXPECT_TRUE(pm.repaired);
-  EXPECT_EQ(pm.wrap_alpha, 0) << "united, not wrapped";
-  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
-  EXPECT_EQ(test::component_count(pm.working), 2);
+  expect_united_not_wrapped(pm, 2);
   EXPECT_EQ(pm.working.F.rows(), parts.F.rows() - 2) << "the input's own faces but the fin's";
   EXPECT_EQ(pm.map_face.size(), parts.V.rows()) << "the fin's vertices are mapped too";
 }
@@ -558,10 +563,7 @@ TEST(Repair, SmallHolesAreFilledAndThePartsUnitedNotWrapped) {
   const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, o);
   EXPECT_GT(pm.report.border_edges, 0);
   EXPECT_EQ(pm.report.filled_holes, 1);
-  EXPECT_TRUE(pm.repaired);
-  EXPECT_EQ(pm.wrap_alpha, 0) << "filled and united, not wrapped";
-  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
-  EXPECT_EQ(test::component_count(pm.working), 2);
+  expect_united_not_wrapped(pm, 2);
   EXPECT_GT(pm.working.F.rows(), parts.F.rows()) << "the input's faces and the hole's patch";
   const dcg::PreparedMesh big = dcg::prepare_mesh(test::cut_above(test::icosphere(3), 0.3).V,
                                                   test::cut_above(test::icosphere(3), 0.3).F, o);
