@@ -529,6 +529,12 @@ TEST(Fins, NothingIsDroppedWhenTheRestIsNotClosedOrThereIsNoFin) {
   EXPECT_FALSE(dcg::internal::drop_fins(sheets).has_value());
 }
 
+// `m` and a small closed sphere apart from it (a second part).
+Mesh beside_a_small_sphere(const Mesh& m) {
+  return test::merged(
+      m, test::transformed(test::icosphere(2), Eigen::Matrix3d::Identity(), 0.5, {3, 0, 0}));
+}
+
 // A repaired working mesh that is the union of `components` closed parts, not a wrap.
 void expect_united_not_wrapped(const dcg::PreparedMesh& pm, int components) {
   EXPECT_TRUE(pm.repaired);
@@ -539,12 +545,8 @@ void expect_united_not_wrapped(const dcg::PreparedMesh& pm, int components) {
 
 // Stage 0 unites what is left instead of wrapping, and says how many faces it left out.
 TEST(Repair, FinsOnClosedPartsAreDroppedAndThePartsUnitedNotWrapped) {
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  const Mesh parts = test::merged(with_fin(test::icosphere(3)),
-                                  test::transformed(test::icosphere(2), I, 0.5, {3, 0, 0}));
-  dcg::PrepareOptions o;
-  o.target_faces = 0;
-  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, o);
+  const Mesh parts = beside_a_small_sphere(with_fin(test::icosphere(3)));
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, keep_input());
   EXPECT_EQ(pm.report.non_manifold_edges, 1);
   EXPECT_EQ(pm.report.fin_faces, 2);
   expect_united_not_wrapped(pm, 2);
@@ -555,18 +557,16 @@ TEST(Repair, FinsOnClosedPartsAreDroppedAndThePartsUnitedNotWrapped) {
 // A part with a small hole (a cap cut off) is closed by filling the hole and united with the
 // others, not wrapped; a hole too large for that still sends the mesh to the wrap.
 TEST(Repair, SmallHolesAreFilledAndThePartsUnitedNotWrapped) {
-  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
-  const Mesh open = test::cut_above(test::icosphere(4), 0.99);  // a hole 1/20 of the diagonal
-  const Mesh parts = test::merged(open, test::transformed(test::icosphere(2), I, 0.5, {3, 0, 0}));
-  dcg::PrepareOptions o;
-  o.target_faces = 0;
-  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, o);
+  // A hole 1/20 of the diagonal.
+  const Mesh parts = beside_a_small_sphere(test::cut_above(test::icosphere(4), 0.99));
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, keep_input());
   EXPECT_GT(pm.report.border_edges, 0);
   EXPECT_EQ(pm.report.filled_holes, 1);
   expect_united_not_wrapped(pm, 2);
   EXPECT_GT(pm.working.F.rows(), parts.F.rows()) << "the input's faces and the hole's patch";
-  const dcg::PreparedMesh big = dcg::prepare_mesh(test::cut_above(test::icosphere(3), 0.3).V,
-                                                  test::cut_above(test::icosphere(3), 0.3).F, o);
+  const dcg::PreparedMesh big =
+      dcg::prepare_mesh(test::cut_above(test::icosphere(3), 0.3).V,
+                        test::cut_above(test::icosphere(3), 0.3).F, keep_input());
   EXPECT_EQ(big.report.filled_holes, 0);
   EXPECT_GT(big.wrap_alpha, 0) << "a hole of most of the diagonal is not filled";
 }
