@@ -132,11 +132,17 @@ void keep_inside(Skeleton& s, const SurfaceQuery& surface, const Progress& progr
 void keep_inside_input(Skeleton& s, const PreparedMesh& prepared, const Vertices& V, const Faces& F,
                        const SurfaceQuery& working_surface, const Progress& progress, double from,
                        double to) {
+  internal::ThrottledProgress tick(progress, "skeleton", from, to);
+  if (prepared.remeshed && prepared.repaired && prepared.united.F.rows() > 0) {
+    // The union of the input's parts, remeshed: held inside the union itself.
+    const SurfaceQuery united_surface(prepared.united, [&] { tick(0); });
+    keep_inside(s, united_surface, progress, from + 0.5 * (to - from), to);
+    return;
+  }
   if (!(prepared.remeshed && !prepared.repaired && prepared.report.closed_manifold())) {
     keep_inside(s, working_surface, progress, from, to);
     return;
   }
-  internal::ThrottledProgress tick(progress, "skeleton", from, to);
   tick(0);
   Mesh normalized;
   normalized.V.resize(V.rows(), 3);

@@ -464,6 +464,7 @@ void remesh_to_target(const PrepareOptions& options, ThrottledProgress& poll, Pr
   const int target = remesh_target(out.working, options);
   if (target == 0) return;
   if (out.wrap_alpha == 0) wrap_flat_folds(options, poll, out);  // not a wrap (maybe a union)
+  if (out.repaired && out.wrap_alpha == 0) out.united = out.working;
   const int goal = static_cast<int>(1.5 * std::max(target, internal::kMinRemeshFaces));
   if (nf > 2.0 * goal) {
     out.working = internal::fast_reduce(out.working, goal, poll.part(0.3, 0.5));

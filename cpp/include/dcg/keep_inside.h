@@ -24,7 +24,8 @@ void keep_inside(Skeleton& s, const SurfaceQuery& surface, const Progress& progr
                  double from = 0, double to = 1);
 
 /// keep_inside() against the input's own surface (V #V by 3, F #F by 3) when stage 0 remeshed a
-/// closed manifold input (`prepared`), else against the working mesh (`working_surface`).
+/// closed manifold input (`prepared`), against the union of its parts (prepared.united) when it
+/// remeshed that union, else against the working mesh (`working_surface`).
 /// Progress as stage "skeleton" (also while it indexes the input), see dcg/progress.h.
 void keep_inside_input(Skeleton& s, const PreparedMesh& prepared, const Vertices& V, const Faces& F,
                        const SurfaceQuery& working_surface, const Progress& progress = {},

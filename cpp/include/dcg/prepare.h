@@ -82,6 +82,10 @@ struct PreparedMesh {
   bool repaired = false;
   double wrap_alpha = 0;  ///< alpha of the wrap when wrapped (normalized units), else 0
   bool remeshed = false;  ///< the working mesh was remeshed (false: the input was kept)
+  /// The union of the input's closed parts before it was remeshed, when the working mesh is that
+  /// union remeshed (else empty): the input's own surface, which keep_inside_input holds the
+  /// skeleton in (the remeshed one bulges out of it a little at concave places).
+  Mesh united;
   int genus = 0;          ///< total genus of the working mesh, from its Euler characteristic
   /// Map from each input vertex to the working mesh: #V_in face indices into working.F and
   /// #V_in by 3 barycentric coordinates of the closest working-mesh point. When the working
