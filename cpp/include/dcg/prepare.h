@@ -86,7 +86,7 @@ struct PreparedMesh {
   /// union remeshed (else empty): the input's own surface, which keep_inside_input holds the
   /// skeleton in (the remeshed one bulges out of it a little at concave places).
   Mesh united;
-  int genus = 0;          ///< total genus of the working mesh, from its Euler characteristic
+  int genus = 0;  ///< total genus of the working mesh, from its Euler characteristic
   /// Map from each input vertex to the working mesh: #V_in face indices into working.F and
   /// #V_in by 3 barycentric coordinates of the closest working-mesh point. When the working
   /// mesh is the cleaned input itself, a vertex maps exactly onto its own corner.
