@@ -120,8 +120,7 @@ def repair_summary(prepared) -> Optional[str]:
     if r["non_manifold_edges"]:
         problems.append(_count(r["non_manifold_edges"], "non-manifold edge"))
     if r["non_manifold_vertices"]:
-        problems.append(_count(r["non_manifold_vertices"], "pinched vertex").replace(
-            "vertexs", "vertices"))
+        problems.append(_count(r["non_manifold_vertices"], "pinched vertex", "pinched vertices"))
     if not r["orientable"]:
         problems.append("a non-orientable surface")
     found = "the mesh has " + (", ".join(problems) or "no single closed surface")
@@ -137,8 +136,8 @@ def repair_summary(prepared) -> Optional[str]:
     return f"{found}: skeleton of the union of its closed parts{done}"
 
 
-def _count(n: int, thing: str) -> str:
-    return f"{n} {thing}" if n == 1 else f"{n} {thing}s"
+def _count(n: int, thing: str, things: Optional[str] = None) -> str:
+    return f"{n} {thing}" if n == 1 else f"{n} {things or thing + 's'}"
 
 
 class Extractor:

@@ -132,27 +132,27 @@ void keep_inside(Skeleton& s, const SurfaceQuery& surface, const Progress& progr
 void keep_inside_input(Skeleton& s, const PreparedMesh& prepared, const Vertices& V, const Faces& F,
                        const SurfaceQuery& working_surface, const Progress& progress, double from,
                        double to) {
-  internal::ThrottledProgress tick(progress, "skeleton", from, to);
-  if (prepared.remeshed && prepared.repaired && prepared.united.F.rows() > 0) {
-    // The union of the input's parts, remeshed: held inside the union itself.
-    const SurfaceQuery united_surface(prepared.united, [&] { tick(0); });
-    keep_inside(s, united_surface, progress, from + 0.5 * (to - from), to);
-    return;
-  }
-  if (!(prepared.remeshed && !prepared.repaired && prepared.report.closed_manifold())) {
+  // The surface to hold the skeleton in: the union of the input's parts when that was remeshed
+  // (prepared.united is kept only then), the input itself when it is a remeshed closed manifold.
+  Mesh input;
+  const bool remeshed_input =
+      prepared.remeshed && !prepared.repaired && prepared.report.closed_manifold();
+  if (prepared.united.F.rows() == 0 && !remeshed_input) {
     keep_inside(s, working_surface, progress, from, to);
     return;
   }
+  internal::ThrottledProgress tick(progress, "skeleton", from, to);
   tick(0);
-  Mesh normalized;
-  normalized.V.resize(V.rows(), 3);
-  for (Eigen::Index i = 0; i < V.rows(); ++i) {
-    normalized.V.row(i) = (V.row(i) - prepared.offset) / prepared.scale;
+  if (remeshed_input) {
+    input.V.resize(V.rows(), 3);
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      input.V.row(i) = (V.row(i) - prepared.offset) / prepared.scale;
+    }
+    input.F = F;
   }
-  normalized.F = F;
   // Millions of input faces take a second or more to index: polled for cancellation too.
-  const SurfaceQuery input_surface(normalized, [&] { tick(0); });
-  keep_inside(s, input_surface, progress, from + 0.5 * (to - from), to);
+  const SurfaceQuery surface(remeshed_input ? input : prepared.united, [&] { tick(0); });
+  keep_inside(s, surface, progress, from + 0.5 * (to - from), to);
 }
 
 }  // namespace dcg

@@ -363,10 +363,12 @@ constexpr double kMaxFilledHole = 0.1;
 constexpr int kMaxFilledHoleEdges = 256;
 
 // The union of the closed parts that `mesh` makes once its holes are filled, when each hole is
-// small (kMaxFilledHole, kMaxFilledHoleEdges); out.report.filled_holes counts them.
-bool unite_with_holes_filled(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
-  std::optional<internal::FilledMesh> filled =
-      internal::fill_small_holes(mesh, kMaxFilledHole, kMaxFilledHoleEdges);
+// small (largest_hole: the largest one's bounding-box diagonal, at most kMaxFilledHole; and
+// kMaxFilledHoleEdges); out.report.filled_holes counts them.
+bool unite_with_holes_filled(const Mesh& mesh, double largest_hole, ThrottledProgress& poll,
+                             PreparedMesh& out) {
+  if (largest_hole > kMaxFilledHole) return false;
+  std::optional<internal::FilledMesh> filled = internal::fill_holes(mesh, kMaxFilledHoleEdges);
   poll(0.1);
   if (!filled || !orient_and_unite(filled->mesh, poll, out)) return false;
   out.report.filled_holes = filled->holes;
@@ -391,7 +393,8 @@ void make_working_mesh(Mesh clean, bool closed, double largest_hole, const Prepa
     if (unite_closed_parts(clean, poll, out)) return;
   }
   if (r.non_manifold_edges > 0 && unite_without_fins(clean, poll, out)) return;
-  if (r.border_edges > 0 && r.non_manifold_edges == 0 && unite_with_holes_filled(clean, poll, out))
+  if (r.border_edges > 0 && r.non_manifold_edges == 0 &&
+      unite_with_holes_filled(clean, largest_hole, poll, out))
     return;
   double alpha = std::clamp(0.6 * largest_hole, 0.01, 0.1);
   if (r.border_edges == 0) alpha = 0.01;

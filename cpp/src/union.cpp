@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <cmath>
 #include <exception>
 #include <functional>
 #include <iterator>
@@ -270,7 +269,7 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
   return canonical_order(out);
 }
 
-std::optional<FilledMesh> fill_small_holes(const Mesh& mesh, double max_diagonal, int max_edges) {
+std::optional<FilledMesh> fill_holes(const Mesh& mesh, int max_edges) {
   std::vector<Point> points;
   points.reserve(static_cast<std::size_t>(mesh.V.rows()));
   for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
@@ -285,19 +284,10 @@ std::optional<FilledMesh> fill_small_holes(const Mesh& mesh, double max_diagonal
   PMP::extract_boundary_cycles(sm, std::back_inserter(cycles));
   if (cycles.empty()) return std::nullopt;
   // Every hole small enough first, so that a large one leaves the mesh untouched.
-  for (const SM::Halfedge_index start : cycles) {
-    CGAL::Bbox_3 box;
-    int edges = 0;
-    for (const SM::Halfedge_index h : CGAL::halfedges_around_face(start, sm)) {
-      box += sm.point(sm.target(h)).bbox();
-      if (++edges > max_edges) return std::nullopt;
-    }
-    const double dx = box.xmax() - box.xmin(), dy = box.ymax() - box.ymin(),
-                 dz = box.zmax() - box.zmin();
-    if (std::sqrt(dx * dx + dy * dy + dz * dz) > max_diagonal) return std::nullopt;
-  }
+  for (const SM::Halfedge_index start : cycles)
+    if (static_cast<int>(CGAL::halfedges_around_face(start, sm).size()) > max_edges)
+      return std::nullopt;
   FilledMesh out;
-  const std::size_t before = sm.number_of_faces();
   try {
     for (const SM::Halfedge_index start : cycles) {
       std::vector<SM::Face_index> patch;
@@ -309,7 +299,6 @@ std::optional<FilledMesh> fill_small_holes(const Mesh& mesh, double max_diagonal
     return std::nullopt;
   }
   if (!CGAL::is_closed(sm)) return std::nullopt;
-  out.added_faces = static_cast<int>(sm.number_of_faces() - before);
   out.mesh = mesh_from_surface_mesh(sm, "the mesh with its holes filled");
   return out;
 }

@@ -27,18 +27,17 @@ namespace dcg::internal {
 std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
                                           const std::function<void(double)>& poll = {});
 
-/// What fill_small_holes made.
+/// What fill_holes made.
 struct FilledMesh {
-  Mesh mesh;            ///< the input with its holes triangulated
-  int holes = 0;        ///< holes (border loops) filled
-  int added_faces = 0;  ///< faces added to fill them
+  Mesh mesh;      ///< the input with its holes triangulated
+  int holes = 0;  ///< holes (border loops) filled
 };
 
 /// (V, F) with every hole (border loop) triangulated (CGAL's triangulate_hole: the patch of
-/// least area and best angles over the loop's own vertices), when every hole is small: its
-/// bounding-box diagonal at most `max_diagonal` (in V's units) and at most `max_edges` edges.
-/// std::nullopt when there is no hole, some hole is larger, the mesh is not a manifold with
+/// least area and best angles over the loop's own vertices), when every hole has at most
+/// `max_edges` edges (how large a hole may be is the caller's: Topology::largest_hole).
+/// std::nullopt when there is no hole, some hole has more edges, the mesh is not a manifold with
 /// border (non-manifold edges) or a triangulation fails: the caller wraps instead.
-std::optional<FilledMesh> fill_small_holes(const Mesh& mesh, double max_diagonal, int max_edges);
+std::optional<FilledMesh> fill_holes(const Mesh& mesh, int max_edges);
 
 }  // namespace dcg::internal
