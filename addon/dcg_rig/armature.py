@@ -36,16 +36,21 @@ def _link_like(obj, like):
         collection.objects.link(obj)
 
 
-def build_armature(context, mesh_obj, plan):
-    """Return a new armature object for `mesh_obj` with the bones of `plan` (world space).
+def build_armature(context, mesh_obj, plan, collection=None, name=None):
+    """Return a new armature object for `mesh_obj` with the bones of `plan` (world space),
+    named `name` ("<mesh> DCG Rig" by default), in `collection` (default: the mesh's).
 
     Leaves object mode active and `mesh_obj` the active object again.
     """
-    data = bpy.data.armatures.new(f"{mesh_obj.name} DCG Rig")
-    arm_obj = bpy.data.objects.new(f"{mesh_obj.name} DCG Rig", data)
+    name = name or f"{mesh_obj.name} DCG Rig"
+    data = bpy.data.armatures.new(name)
+    arm_obj = bpy.data.objects.new(name, data)
     arm_obj[RIG_PROPERTY] = True
     arm_obj.matrix_world = mesh_obj.matrix_world.copy()
-    _link_like(arm_obj, mesh_obj)
+    if collection is None:
+        _link_like(arm_obj, mesh_obj)
+    else:
+        collection.objects.link(arm_obj)
     data.show_names = False
     arm_obj.show_in_front = True
 
@@ -72,6 +77,7 @@ def build_armature(context, mesh_obj, plan):
         bone["dcg_kind"] = spec.kind
         bone["dcg_node"] = spec.node
         bone["dcg_link"] = spec.link
+        bone["dcg_radii"] = (float(spec.head_radius), float(spec.tail_radius))
     _color_bones(arm_obj, plan)
     return arm_obj
 

@@ -86,6 +86,11 @@ def _parser(engine_specs, addon_options):
                         default=addon_options.ADDON_DEFAULTS["weights"])
     parser.add_argument("--bone-detail", type=float,
                         default=addon_options.ADDON_DEFAULTS["bone_detail"])
+    parser.add_argument("--bone-names", type=str.upper,
+                        choices=[item[0] for item in addon_options.BONE_NAME_ITEMS],
+                        default=addon_options.ADDON_DEFAULTS["bone_names"],
+                        help="dcg (descriptive) or mixamo (a humanoid's bones after Mixamo's "
+                             "rig, for retargeting)")
     for spec in engine_specs:
         flag = "--" + spec.name.replace("_", "-")
         if spec.kind == "enum":
@@ -168,7 +173,7 @@ def main():
                      if getattr(args, s.name) is not None}
     try:
         bpy.ops.object.dcg_auto_rig(weights=args.weights, bone_detail=args.bone_detail,
-                                    **engine_kwargs)
+                                    bone_names=args.bone_names, **engine_kwargs)
     except RuntimeError as error:
         _fail(str(error).strip())
     arm_obj, mesh_obj = _rig_mesh_object()

@@ -1,5 +1,5 @@
 """The add-on's operators: object.dcg_auto_rig, object.dcg_preview, object.dcg_clear,
-dcg.preset and dcg.load_mesh.
+dcg.mirror_skeleton, dcg.preset and dcg.load_mesh.
 
 Rig and Preview run the engine. Invoked from the UI they run it on a worker thread
 (`worker.SkeletonJob`) and stay modal: progress in the status bar and on the cursor, Esc
@@ -19,7 +19,8 @@ import bpy
 from bpy.props import EnumProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
-from . import _engine, armature, live, mesh_io, options, preview, properties, rigging, worker
+from . import (_engine, armature, editing, live, mesh_io, options, preview, properties, rigging,
+               worker)
 
 
 def _kind_counts(kinds):
@@ -229,15 +230,34 @@ def _skeleton_of(extractor):
     return extractor
 
 
+def show_preview(context, mesh_obj, extractor, values):
+    """Draw the preview of `extractor`'s skeleton of `mesh_obj` (its stages, nodes and links)
+    with the editable armature of its bones (`editing`), planned with the settings `values`;
+    return the planner's warnings."""
+    skeleton = extractor.skeleton()
+    collection = preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
+    plan, warnings = rigging.plan_bones(skeleton, values["bone_detail"], values["bone_names"])
+    if plan:
+        editing.add_editable_skeleton(context, mesh_obj, plan,
+                                      _engine.require().bones.plan_plane(skeleton), collection)
+    return warnings
+
+
 def retune_live_preview(context):
     """The panel's Tau moved: redraw the shown preview at the new tau from its kept extractor
     (`live`), when the preview is of the active mesh as it is now, with the panel's other
-    options; otherwise leave it as it is (Preview Skeleton makes a new one)."""
+    options, and its skeleton was not edited; otherwise leave it as it is (Preview Skeleton
+    makes a new one)."""
     obj = context.active_object
     if _EngineOperator._running or obj is None or live.kept_for(obj.name) is None:
         return
     if bpy.data.collections.get(preview.COLLECTION_NAME) is None:  # removed by hand
         live.forget()
+        return
+    edited = editing.preview_skeleton(obj.name)
+    if edited is not None and editing.is_edited(edited):
+        print(f"DCG: the preview of {obj.name} was not redrawn: its skeleton was edited "
+              "(Preview Skeleton starts again from the new tau)")
         return
     scene_settings = properties.settings(context)
     values = {name: getattr(scene_settings, name) for name in properties.setting_names()}
@@ -247,8 +267,7 @@ def retune_live_preview(context):
         extractor = live.matching(obj.name, V, F, kwargs)
         if extractor is None:
             return
-        skeleton = extractor.skeleton()
-        preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
+        show_preview(context, obj, extractor, values)
     except Exception as error:  # a property update cannot report: the console says why
         print(f"DCG: the preview was not updated: {type(error).__name__}: {error}")
 
@@ -276,18 +295,21 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
         return lambda V, F, progress=None, **options: _skeleton_of(previewed)
 
     def finish(self, context, mesh_obj, extractor, values):
-        live.forget()  # the rig replaces the preview
         skeleton = extractor.skeleton()
+        # The preview's skeleton as the user edited it, bound as it is (editing.py).
+        edited = editing.edited_plan(_engine.require(), mesh_obj)
         result = rigging.apply_rig(context, mesh_obj, skeleton, values["weights"],
                                    values["bone_detail"], extractor.prepare(),
-                                   self.engine_options(values))
+                                   self.engine_options(values), values["bone_names"], edited)
+        live.forget()  # the rig replaced the preview
         arm_obj = result.armature
         arm_obj["dcg_timings"] = {k: float(v) for k, v in skeleton.timings.items()}
         arm_obj["dcg_method"] = skeleton.method
         _report_repair(self, extractor)
         for warning in result.warnings:
             self.report({"WARNING"}, f"DCG: {warning}")
-        source = "the previewed skeleton, " if self._previewed else ""
+        source = ("the edited preview skeleton, " if edited is not None else
+                  "the previewed skeleton, " if self._previewed else "")
         self.report({"INFO"}, f"DCG: rigged {mesh_obj.name} with {result.bone_count} bones "
                               f"({source}{_kind_counts(skeleton.kinds)} nodes) in "
                               f"{self.elapsed:.2f} s")
@@ -301,7 +323,8 @@ class OBJECT_OT_dcg_preview(_EngineOperator, bpy.types.Operator):
     bl_idname = "object.dcg_preview"
     bl_label = "Preview Skeleton"
     bl_options = {"REGISTER", "UNDO"}
-    __annotations__ = properties.engine_annotations({"SKIP_SAVE"})
+    __annotations__ = {**properties.engine_annotations({"SKIP_SAVE"}),
+                       **properties.addon_annotations({"SKIP_SAVE"}, with_weights=False)}
 
     def compute(self, engine, mesh_obj, V, F, kwargs):
         self._kept_as = (mesh_obj.name, live.fingerprint(V, F), kwargs)
@@ -309,10 +332,12 @@ class OBJECT_OT_dcg_preview(_EngineOperator, bpy.types.Operator):
 
     def finish(self, context, mesh_obj, extractor, values):
         skeleton = extractor.skeleton()
-        preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
+        warnings = show_preview(context, mesh_obj, extractor, values)
         name, mesh_fingerprint, kwargs = self._kept_as
         live.remember(name, mesh_fingerprint, kwargs, extractor)  # for the Tau slider and Rig
         _report_repair(self, extractor)
+        for warning in warnings:
+            self.report({"WARNING"}, f"DCG: {warning}")
         self.report({"INFO"}, f"DCG: {len(skeleton.positions)} nodes "
                               f"({_kind_counts(skeleton.kinds)}), {len(skeleton.links)} links "
                               f"in {self.elapsed:.2f} s")
@@ -334,6 +359,40 @@ class OBJECT_OT_dcg_clear(bpy.types.Operator):
         preview.clear_preview()
         self.report({"INFO"}, f"DCG: removed {removed} rig(s)"
                               + (" and the preview" if had_preview else ""))
+        return {"FINISHED"}
+
+
+class DCG_OT_mirror_skeleton(bpy.types.Operator):
+    """Mirror the preview skeleton's bones of one side onto their partners of the other,
+    across the mesh's mirror plane (the selected bones in Edit Mode, else all)"""
+
+    bl_idname = "dcg.mirror_skeleton"
+    bl_label = "Mirror Skeleton Edit"
+    bl_options = {"REGISTER", "UNDO"}
+    source: EnumProperty(name="From", items=(
+        ("L", "Left to Right", "Copy the .L / Left bones onto their .R / Right partners"),
+        ("R", "Right to Left", "Copy the .R / Right bones onto their .L / Left partners")),
+        default="L")
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        if obj is None or obj.type != "ARMATURE" or editing.PREVIEW_OF not in obj:
+            cls.poll_message_set("make the DCG preview skeleton the active object")
+            return False
+        if editing.MIRROR_PLANE not in obj:
+            cls.poll_message_set("the previewed shape has no mirror plane")
+            return False
+        return True
+
+    def execute(self, context):
+        try:
+            done, missing = editing.mirror_edit(context.active_object, self.source)
+        except ValueError as error:
+            self.report({"ERROR"}, f"DCG: {error}")
+            return {"CANCELLED"}
+        note = f" ({missing} without a partner on the other side)" if missing else ""
+        self.report({"INFO"}, f"DCG: mirrored {done} bones{note}")
         return {"FINISHED"}
 
 
@@ -388,5 +447,5 @@ class DCG_OT_load_mesh(bpy.types.Operator, ImportHelper):
         return {"FINISHED"}
 
 
-CLASSES = (OBJECT_OT_dcg_auto_rig, OBJECT_OT_dcg_preview, OBJECT_OT_dcg_clear, DCG_OT_preset,
-           DCG_OT_load_mesh)
+CLASSES = (OBJECT_OT_dcg_auto_rig, OBJECT_OT_dcg_preview, OBJECT_OT_dcg_clear,
+           DCG_OT_mirror_skeleton, DCG_OT_preset, DCG_OT_load_mesh)

@@ -7,7 +7,7 @@ engine's. The add-on's own settings (weights, bone detail) live in `ADDON_DEFAUL
 from dataclasses import dataclass
 
 # The add-on's own settings, shared by the panel, the operators and the CLI.
-ADDON_DEFAULTS = {"weights": "DCG", "bone_detail": 0.5}
+ADDON_DEFAULTS = {"weights": "DCG", "bone_detail": 0.5, "bone_names": "DCG"}
 
 WEIGHT_METHODS = (
     ("DCG", "DCG", "The engine's own bone heat weights: every vertex weighted, open and "
@@ -16,6 +16,15 @@ WEIGHT_METHODS = (
     ("ENVELOPE", "Envelope", "By distance to the bones, scaled by the skeleton radii "
                              "(never fails)"),
     ("NONE", "None", "Armature modifier and empty vertex groups, for painting by hand"),
+)
+
+# How bones are named (dcg.bones.plan_bones' names, lower-cased).
+BONE_NAME_ITEMS = (
+    ("DCG", "Descriptive", "By kind and side: end.002.L, connection.004.R (X-Axis Mirror, "
+                           "Symmetrize and Paste Pose Flipped pair the sides)"),
+    ("MIXAMO", "Mixamo", "A humanoid's bones named and counted after Mixamo's rig (Hips, "
+                         "Spine, LeftArm, LeftForeArm, LeftUpLeg, ...), so that animations "
+                         "made for it retarget; other shapes keep the descriptive names"),
 )
 
 # Presets: option values that differ from the defaults (the rest are reset to defaults).

@@ -49,10 +49,10 @@ def clear_preview():
     if collection is None:
         return
     for obj in list(collection.objects):
-        data = obj.data
+        data, blocks = obj.data, bpy.data.armatures if obj.type == "ARMATURE" else bpy.data.meshes
         bpy.data.objects.remove(obj)
         if data is not None and data.users == 0:
-            bpy.data.meshes.remove(data)
+            blocks.remove(data)
     bpy.data.collections.remove(collection)
 
 

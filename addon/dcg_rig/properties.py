@@ -63,6 +63,11 @@ def addon_annotations(flags=frozenset(), with_weights=True):
         default=options.ADDON_DEFAULTS["bone_detail"], options=set(flags),
         description="How many bones each limb gets, its joints where it bends and "
                     "narrows: 0 gives one bone per limb, 1 one bone per polyline segment")}
+    result["bone_names"] = EnumProperty(
+        name="Bone Names", items=options.BONE_NAME_ITEMS,
+        default=options.ADDON_DEFAULTS["bone_names"], options=set(flags),
+        description="How the bones are named: descriptive, or after Mixamo's rig for a "
+                    "humanoid (then its chains get Mixamo's bone counts, not Bone Detail's)")
     if with_weights:
         result["weights"] = EnumProperty(
             name="Weights", items=options.WEIGHT_METHODS,

@@ -76,16 +76,33 @@ def reusable_prepared(mesh_obj, prepared):
     return prepared
 
 
+def plan_bones(skeleton, bone_detail=0.5, bone_names="DCG"):
+    """(the bone plan of `skeleton`, warnings): the package's planner (dcg.bones.plan_bones)
+    at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"; a warning when Mixamo's
+    names were asked for a skeleton that is not humanoid)."""
+    engine = _engine.require()
+    plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower())
+    warnings = []
+    if bone_names == "MIXAMO" and not engine.humanoid.is_mixamo(plan):
+        warnings.append("the skeleton is not humanoid (one head, two arms, two legs, upright "
+                        "and symmetric): kept the descriptive bone names")
+    return plan, warnings
+
+
 def apply_rig(context, mesh_obj, skeleton, weight_method="DCG", bone_detail=0.5,
-              prepared=None, engine_options=None):
+              prepared=None, engine_options=None, bone_names="DCG", plan=None):
     """Rig `mesh_obj` from `skeleton` (world coordinates); return a RigResult.
 
-    Transactional: the mesh's earlier DCG rigs are detached (not deleted) while the new rig
-    is built and bound. On success they are deleted along with the preview; on failure the
-    new armature is deleted and the earlier binding (vertex groups, modifiers, parent) is
-    restored, then the exception propagates.
+    The bones are `plan` when given (world space: the edited preview skeleton), else the
+    planner's (`plan_bones` at `bone_detail` with `bone_names`). Transactional: the mesh's
+    earlier DCG rigs are detached (not deleted) while the new rig is built and bound. On
+    success they are deleted along with the preview; on failure the new armature is deleted
+    and the earlier binding (vertex groups, modifiers, parent) is restored, then the
+    exception propagates.
     """
-    plan = _engine.require().bones.plan_bones(skeleton, bone_detail)  # the package's planner
+    warnings = []
+    if plan is None:
+        plan, warnings = plan_bones(skeleton, bone_detail, bone_names)
     if not plan:
         raise RigError(f"the skeleton of {mesh_obj.name} has no bones "
                        f"({len(skeleton.positions)} nodes, {len(skeleton.links)} links)")
@@ -96,7 +113,7 @@ def apply_rig(context, mesh_obj, skeleton, weight_method="DCG", bone_detail=0.5,
         for old in old_rigs:
             armature.detach(mesh_obj, old)
         arm_obj = armature.build_armature(context, mesh_obj, plan)
-        warnings = weights.apply_weights(context, mesh_obj, arm_obj, plan, weight_method,
+        warnings += weights.apply_weights(context, mesh_obj, arm_obj, plan, weight_method,
                                          reusable_prepared(mesh_obj, prepared), engine_options)
     except BaseException:
         if arm_obj is not None:

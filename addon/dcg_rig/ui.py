@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import _engine, armature, properties, rigging
+from . import _engine, armature, editing, properties, rigging
 
 #: Engine options shown in the main panel; the others go to "Advanced".
 MAIN_OPTIONS = ("tau", "target_faces", "repair")
@@ -40,6 +40,8 @@ class VIEW3D_PT_dcg_rig(bpy.types.Panel):
         obj = context.active_object
         if obj is not None and obj.type == "MESH":
             layout.label(text=f"{obj.name}: {len(obj.data.polygons)} faces", icon="MESH_DATA")
+        elif obj is not None and editing.PREVIEW_OF in obj:
+            self._draw_skeleton_editing(layout, obj)
         else:
             layout.label(text="Select a mesh object", icon="INFO")
         settings = properties.settings(context)
@@ -51,6 +53,7 @@ class VIEW3D_PT_dcg_rig(bpy.types.Panel):
         col = layout.column(align=True)
         col.prop(settings, "weights")
         col.prop(settings, "bone_detail", slider=True)
+        col.prop(settings, "bone_names")
         row = layout.row()
         row.scale_y = 1.5
         row.operator("object.dcg_auto_rig", icon="ARMATURE_DATA")
@@ -59,7 +62,27 @@ class VIEW3D_PT_dcg_rig(bpy.types.Panel):
         row.operator("object.dcg_clear", icon="X", text="Clear")
         layout.operator("dcg.load_mesh", icon="FILEBROWSER")
         if obj is not None and obj.type == "MESH":
+            skeleton = editing.preview_skeleton(obj.name)
+            if skeleton is not None and editing.is_edited(skeleton):
+                layout.label(text="Rig binds the edited preview skeleton", icon="BONE_DATA")
             self._draw_last_rig(layout, obj)
+
+    @staticmethod
+    def _draw_skeleton_editing(layout, arm_obj):
+        """The preview skeleton is active: how to edit it, Mirror, and what Rig will do."""
+        box = layout.box()
+        mesh_name = arm_obj[editing.PREVIEW_OF]
+        box.label(text=f"Preview skeleton of {mesh_name}", icon="ARMATURE_DATA")
+        _wrapped(box, "Tab into Edit Mode: move joints, delete spurious bones, extrude. "
+                      f"Then select {mesh_name} and Rig with DCG: it binds these bones.")
+        if editing.MIRROR_PLANE in arm_obj:
+            if arm_obj.data.use_mirror_x:
+                box.label(text="X-Axis Mirror is on: edits mirror as you make them")
+            row = box.row(align=True)
+            row.operator("dcg.mirror_skeleton", text="Mirror L to R").source = "L"
+            row.operator("dcg.mirror_skeleton", text="Mirror R to L").source = "R"
+        state = "edited" if editing.is_edited(arm_obj) else "as planned"
+        box.label(text=f"{len(arm_obj.data.bones)} bones, {state}")
 
     @staticmethod
     def _draw_last_rig(layout, obj):

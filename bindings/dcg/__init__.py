@@ -39,7 +39,7 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from . import _core, bones  # noqa: F401  (dcg.bones: the bone planner)
+from . import _core, bones, humanoid, rolls  # noqa: F401  (the bone planner, its names, rolls)
 from .options import OPTIONS, SKELETON_OPTIONS, OptionInfo, normalize_options
 from .skeleton import FORMAT, Skeleton
 from .weights import BoneHeat, SkinWeights, skin_weights

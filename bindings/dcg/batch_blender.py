@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
 from .batch_jobs import BatchError, Job
+from .bones import BONE_NAMES
 
 BLENDER_CLI_ENV = "DCG_BLENDER_CLI"
 BLENDER_ENV = "BLENDER"
@@ -99,9 +100,11 @@ def check_glb_tools(blender: Optional[str], blender_cli: Optional[str]) -> str:
     return ""
 
 
-def cli_flags(options: Dict[str, Any], bone_detail: float) -> List[str]:
-    """Engine options and the bone detail as the add-on CLI's flags (--target-faces 20000 ...)."""
-    flags = ["--bone-detail", repr(float(bone_detail))]
+def cli_flags(options: Dict[str, Any], bone_detail: float,
+              bone_names: str = BONE_NAMES) -> List[str]:
+    """Engine options, the bone detail and the bone names' convention as the add-on CLI's
+    flags (--target-faces 20000 ...)."""
+    flags = ["--bone-detail", repr(float(bone_detail)), "--bone-names", bone_names]
     for name, value in sorted(options.items()):
         flags += [f"--{name.replace('_', '-')}", str(value)]
     return flags
@@ -134,5 +137,6 @@ def read_with_blender(job: Job, off_path: str, timeout: Optional[float]) -> None
 
 def rig_with_blender(job: Job, glb_path: str, timeout: Optional[float]) -> None:
     """Write the model rigged by the add-on (its bone plan at job.bone_detail) to `glb_path`."""
-    run_addon_cli(job, [job.source, "--glb", glb_path, *cli_flags(job.options, job.bone_detail)],
+    run_addon_cli(job, [job.source, "--glb", glb_path, *cli_flags(job.options, job.bone_detail,
+                                                              job.bone_names)],
                   "rigging it in Blender", timeout)

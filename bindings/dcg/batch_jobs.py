@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Dict, List, Optional
 
-from .bones import BONE_DETAIL
+from .bones import BONE_DETAIL, BONE_NAMES
 
 ENGINE_FORMATS = (".obj", ".off", ".ply", ".stl")
 #: Read only through Blender's importers, so only with --glb.
@@ -35,6 +35,7 @@ class Job:
               on the worker (see dcg.batch_blender)
     timeout   seconds per model (engine: checked at its progress reports; Blender: killed)
     bone_detail  the bone plan's detail (dcg.bones), for the .weights.npz and the .glb alike
+    bone_names   the bone plan's naming convention ("dcg", or "mixamo" for humanoids), likewise
     """
 
     path: str
@@ -45,6 +46,7 @@ class Job:
     blender_cli: Optional[str] = None
     timeout: Optional[float] = None
     bone_detail: float = BONE_DETAIL
+    bone_names: str = BONE_NAMES
 
 
 def find_models(in_dir: Path, glb: bool = False, exclude: Optional[Path] = None) -> List[str]:

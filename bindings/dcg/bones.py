@@ -57,6 +57,10 @@ from .symmetry import MIRROR_TOLERANCE, limb_sides, mirror_plane  # noqa: F401 (
 KINDS = ("end", "joint", "connection")
 #: The default `bone_detail` (the add-on's panel, its CLI and `dcg batch` start from it).
 BONE_DETAIL = 0.5
+#: How bones are named: by kind ("dcg", the default) or after Mixamo's rig when the skeleton
+#: is humanoid ("mixamo", `dcg.humanoid`).
+BONE_NAME_CONVENTIONS = ("dcg", "mixamo")
+BONE_NAMES = "dcg"
 #: Bones per link of a limb at bone_detail 1 (capped by the limb's polyline segments).
 BONES_PER_LINK = 5.0
 #: How much a narrowing (the radius dipping below the widest part on both sides, 0..1)
@@ -255,7 +259,7 @@ def limb_polyline(skeleton, limb):
     return points, nodes, np.array(segment_links, dtype=np.int64), radii
 
 
-def plan_bones(skeleton, bone_detail=BONE_DETAIL):
+def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_bones=None):
     """Return the list of BoneSpec for `skeleton`, parents before children.
 
     `skeleton` needs positions (#N by 3), kinds (#N), radii (#N), links (#L by 2),
@@ -264,7 +268,21 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL):
     limb's articulations (`articulations`); with a mirror plane the plan mirrors itself
     (`symmetrize`). Each bone's roll comes from its chain (`dcg.rolls`). Segments shorter
     than 1e-6 of the skeleton's size are merged away (Blender deletes zero-length bones).
+
+    names: "dcg" (kind and counter, ``end.002.L``) or "mixamo" (`dcg.humanoid`: a humanoid
+    skeleton's bones named and counted after Mixamo's rig, ``LeftForeArm``; any other skeleton
+    keeps the "dcg" names). limb_bones: {node: count}, the bones of the limb that ends at that
+    node instead of `bone_detail`'s (what the "mixamo" plan asks for).
     """
+    if names not in BONE_NAME_CONVENTIONS:
+        raise ValueError(f"names must be one of {', '.join(BONE_NAME_CONVENTIONS)}, "
+                         f"got {names!r}")
+    if names == "mixamo":
+        from . import humanoid  # it plans with this function
+
+        plan = humanoid.mixamo_plan(skeleton)
+        if plan is not None:
+            return plan
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     extent = np.ptp(positions, axis=0) if len(positions) else np.zeros(3)
     min_length = 1e-6 * max(float(np.linalg.norm(extent)), 1e-12)
@@ -272,7 +290,9 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL):
     polylines = [limb_polyline(skeleton, limb) for limb in chains]
     plane, sides = _symmetry(skeleton, chains, polylines)
     segments = [len(polyline[0]) - 1 for polyline in polylines]
-    wanted = _paired_counts([bone_count(len(limb), count, bone_detail)
+    limb_bones = limb_bones or {}
+    wanted = _paired_counts([min(limb_bones[limb[-1][2]], count) if limb[-1][2] in limb_bones
+                             else bone_count(len(limb), count, bone_detail)
                              for limb, count in zip(chains, segments)], segments, sides)
     joints = limb_joints(plane, polylines, sides, wanted, min_length)
     if plane is not None:

@@ -66,6 +66,11 @@ def build_parser() -> argparse.ArgumentParser:
                        help="the bone plan's detail, 0 (one bone per limb) to 1 (a bone per "
                        "polyline segment; dcg.bones explains the count), for the .weights.npz and "
                        f"the .glb alike (default {bones.BONE_DETAIL}, the add-on's)")
+    batch.add_argument("--bone-names", choices=bones.BONE_NAME_CONVENTIONS,
+                       default=bones.BONE_NAMES,
+                       help="how bones are named: dcg (by kind, end.002.L) or mixamo (a humanoid's "
+                       "bones named and counted after Mixamo's rig, for retargeting; other "
+                       f"shapes keep the dcg names; default {bones.BONE_NAMES})")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     _add_option_flags(batch, OPTIONS)
     return parser
@@ -81,6 +86,7 @@ def run_batch(args: argparse.Namespace) -> int:
                             retry_failed=args.retry_failed, blender=args.blender,
                             blender_cli=args.blender_cli, timeout=args.timeout,
                             retries=args.retries, bone_detail=args.bone_detail,
+                            bone_names=args.bone_names,
                             progress=None if args.quiet else sys.stderr)
     except batch.BatchError as error:
         print(f"error: {error}", file=sys.stderr)

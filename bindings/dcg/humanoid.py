@@ -1,0 +1,254 @@
+"""Retarget-ready bone names (no `bpy`: plain pytest tests it): a humanoid skeleton's bones
+named after Mixamo's rig, so that animation libraries made for it retarget onto ours.
+
+    plan = dcg.bones.plan_bones(skeleton, names="mixamo")   # humanoid: Hips, Spine, ...
+    body = dcg.humanoid.find_humanoid(skeleton)             # a Humanoid, or None
+    dcg.humanoid.is_mixamo(plan)                            # did the names apply?
+
+A skeleton is humanoid (`find_humanoid`) when it is a tree with five ends and a mirror plane
+(`dcg.symmetry`): one end on the plane (the head), two pairs mirrored across it, the pair
+farther from the head the feet, the other the hands; the two legs meet at one node (the
+pelvis), both arms at another between it and the head (the chest). Any other skeleton (a
+tail, fingers, a cycle, no mirror plane, arms that leave the body at two places) keeps the
+descriptive names, and `plan_bones` says so by returning the "dcg" plan (`is_mixamo`).
+
+The plan is rooted at the pelvis and has Mixamo's chains, each bone named by its place in
+its chain (`CHAIN_NAMES`: fewer bones where a limb has fewer polyline segments):
+
+    Hips > Spine > Spine1 > Spine2 > Neck > Head > HeadTop_End
+    Spine2 > LeftShoulder > LeftArm > LeftForeArm > LeftHand      (Right... likewise)
+    Hips > LeftUpLeg > LeftLeg > LeftFoot > LeftToeBase           (Right... likewise)
+
+Hips is the spine's first bone (its head at the pelvis), the legs its children (not
+connected: they start at its head). Left is the .L side of the plan (the side the plane's
+normal points to: +X, the character's left for a model facing -Y, as Blender's .L). The
+joints are the planner's own (`dcg.bones.articulations`, mirrored across the plane): only
+the count per chain is Mixamo's, so `bone_detail` does not apply.
+"""
+
+from collections import deque
+from dataclasses import dataclass, replace
+from types import SimpleNamespace
+
+import numpy as np
+
+from . import symmetry
+from .bones import plan_bones
+
+#: Bone names of each chain by how many bones it has (the most: Mixamo's own chain). The
+#: trunk runs from the pelvis to the chest, the neck from the chest to the head's end; where
+#: the legs and arms leave the body at one node the "torso" from there to the head is both.
+CHAIN_NAMES = {
+    "trunk": {1: ("Hips",), 2: ("Hips", "Spine"), 3: ("Hips", "Spine", "Spine1"),
+              4: ("Hips", "Spine", "Spine1", "Spine2")},
+    "neck": {1: ("Head",), 2: ("Neck", "Head"), 3: ("Neck", "Head", "HeadTop_End")},
+    "torso": {2: ("Hips", "Head"), 3: ("Hips", "Spine", "Head"),
+              4: ("Hips", "Spine", "Neck", "Head"),
+              5: ("Hips", "Spine", "Neck", "Head", "HeadTop_End"),
+              6: ("Hips", "Spine", "Spine1", "Neck", "Head", "HeadTop_End"),
+              7: ("Hips", "Spine", "Spine1", "Spine2", "Neck", "Head", "HeadTop_End")},
+    "arm": {1: ("Arm",), 2: ("Arm", "ForeArm"), 3: ("Arm", "ForeArm", "Hand"),
+            4: ("Shoulder", "Arm", "ForeArm", "Hand")},
+    "leg": {1: ("UpLeg",), 2: ("UpLeg", "Leg"), 3: ("UpLeg", "Leg", "Foot"),
+            4: ("UpLeg", "Leg", "Foot", "ToeBase"),
+            5: (None, "UpLeg", "Leg", "Foot", "ToeBase")},
+}
+#: A leg's first bone of five runs from the pelvis out to the hip (None: no bone there): the
+#: thigh's bone, UpLeg, starts at the hip as Hips' child, as in Mixamo's rig.
+#: The bones the arms hang from, the first there is: the top of the spine.
+CHEST_BONES = ("Spine2", "Spine1", "Spine", "Hips")
+SIDE_NAMES = {"L": "Left", "R": "Right"}
+#: Hands and feet pair when each lies this close to the other's mirror image (in bounding-box
+#: diagonals of the skeleton's nodes: a pose or a scan is not exactly symmetric).
+PAIR_TOLERANCE = 0.1
+#: Upright: the cosine between the pelvis's directions to the head and to the feet is below
+#: minus this (a quadruped's legs stand across its spine: about 0).
+UPRIGHT = 0.5
+
+
+@dataclass(frozen=True)
+class Humanoid:
+    """The nodes of a humanoid skeleton: hands and feet by side ({"L": node, "R": node})."""
+
+    head: int
+    chest: int
+    pelvis: int
+    hands: dict
+    feet: dict
+
+
+def _tree_parents(links, node_count, start):
+    """Parent of each node in the tree `links` walked from `start` (-1 at the start), or None
+    when the links are not one tree over every node."""
+    if len(links) != node_count - 1:
+        return None
+    incident = [[] for _ in range(node_count)]
+    for a, b in links:
+        incident[a].append(b)
+        incident[b].append(a)
+    parents = np.full(node_count, -2, dtype=np.int64)
+    parents[start] = -1
+    queue = deque([start])
+    while queue:
+        node = queue.popleft()
+        for other in incident[node]:
+            if parents[other] == -2:
+                parents[other] = node
+                queue.append(other)
+    return None if (parents == -2).any() else parents
+
+
+def _path(parents, node):
+    """Nodes from the walk's start to `node`."""
+    path = [node]
+    while parents[path[-1]] >= 0:
+        path.append(int(parents[path[-1]]))
+    return path[::-1]
+
+
+def _branch(path_a, path_b):
+    """The last node two paths from the same start share."""
+    shared = 0
+    while shared < min(len(path_a), len(path_b)) and path_a[shared] == path_b[shared]:
+        shared += 1
+    return path_a[shared - 1]
+
+
+def _paired_ends(plane, positions, ends, tolerance):
+    """(head, [(.L end, .R end), (.L, .R)]) of five end nodes: the four that pair best as
+    mirror images across `plane` (each within `tolerance` of the other's mirror image) and
+    the one left over; None when no four pair."""
+    best = None
+    for head in ends:
+        rest = ends[ends != head]
+        left, right = rest[plane.signed(positions[rest]) > 0], rest[plane.signed(
+            positions[rest]) <= 0]
+        if len(left) != 2 or len(right) != 2:
+            continue
+        mirrored = plane.reflect(positions[left])
+        for order in (right, right[::-1]):
+            gaps = np.linalg.norm(mirrored - positions[order], axis=1)
+            if gaps.max() <= tolerance and (best is None or gaps.sum() < best[0]):
+                best = (gaps.sum(), int(head), list(zip(left.tolist(), order.tolist())))
+    return None if best is None else best[1:]
+
+
+def _direction(positions, start, nodes):
+    """Unit vector from node `start` to the mean of `nodes`."""
+    vector = positions[list(nodes)].mean(axis=0) - positions[start]
+    return vector / max(float(np.linalg.norm(vector)), 1e-12)
+
+
+def find_humanoid(skeleton):
+    """The Humanoid of `skeleton` (see the module's text), or None when it is not one."""
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
+    degree = np.bincount(links.ravel(), minlength=len(positions))
+    ends = np.flatnonzero(degree == 1)
+    plane = symmetry.skeleton_plane(skeleton)
+    if len(ends) != 5 or plane is None:
+        return None
+    tolerance = PAIR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
+    paired = _paired_ends(plane, positions, ends, tolerance)
+    parents = None if paired is None else _tree_parents(links, len(positions), paired[0])
+    if parents is None:
+        return None
+    head, pairs = paired
+    reach = [np.linalg.norm(positions[list(pair)] - positions[head], axis=1).mean()
+             for pair in pairs]
+    (hand_l, hand_r), (foot_l, foot_r) = pairs if reach[0] < reach[1] else pairs[::-1]
+    to = {node: _path(parents, node) for node in (hand_l, hand_r, foot_l, foot_r)}
+    pelvis = _branch(to[foot_l], to[foot_r])
+    chests = {_branch(to[hand_l], to[hand_r]), _branch(to[hand_l], to[foot_l]),
+              _branch(to[hand_r], to[foot_r])}
+    chest = chests.pop() if len(chests) == 1 else None
+    if chest is None or to[foot_l].index(chest) > to[foot_l].index(pelvis):
+        return None  # the arms leave the body at two places, or below the legs
+    # Upright: the legs go on from the trunk, away from the head (a quadruped's stand across).
+    up = _direction(positions, pelvis, [head])
+    if float(up @ _direction(positions, pelvis, [foot_l, foot_r])) > -UPRIGHT:
+        return None
+    return Humanoid(head, chest, pelvis, {"L": hand_l, "R": hand_r},
+                    {"L": foot_l, "R": foot_r})
+
+
+def _rooted(skeleton, root):
+    """A view of `skeleton` with another root (what plan_bones reads)."""
+    return SimpleNamespace(positions=skeleton.positions, kinds=skeleton.kinds,
+                           radii=skeleton.radii, links=skeleton.links,
+                           polylines=skeleton.polylines, root=int(root))
+
+
+def _chain_ends(body):
+    """{node a chain ends at: (chain, side, the node it starts at)} (see CHAIN_NAMES)."""
+    if body.chest == body.pelvis:
+        chains = {body.head: ("torso", None, body.pelvis)}
+    else:
+        chains = {body.chest: ("trunk", None, body.pelvis),
+                  body.head: ("neck", None, body.chest)}
+    for side in ("L", "R"):
+        chains[body.hands[side]] = ("arm", side, body.chest)
+        chains[body.feet[side]] = ("leg", side, body.pelvis)
+    return chains
+
+
+def _chain_of(plan, by_name, end_node, start_node):
+    """The bones of the chain that ends at `end_node`, first to last: from the bone whose tail
+    is that node up to the one that leaves `start_node` (or a root)."""
+    bone = next(spec for spec in plan if spec.node == end_node)
+    chain = [bone]
+    while chain[-1].parent is not None and by_name[chain[-1].parent].node != start_node:
+        chain.append(by_name[chain[-1].parent])
+    return chain[::-1]
+
+
+def mixamo_plan(skeleton):
+    """The bone plan of a humanoid `skeleton` named after Mixamo's rig (the module's text), or
+    None when it is not humanoid (the chains have Mixamo's counts, whatever the bone detail)."""
+    body = find_humanoid(skeleton)
+    if body is None:
+        return None
+    chains = _chain_ends(body)
+    plan = plan_bones(_rooted(skeleton, body.pelvis), limb_bones={
+        node: max(CHAIN_NAMES[chain]) for node, (chain, _, _) in chains.items()})
+    by_name = {spec.name: spec for spec in plan}
+    renamed, roles = {}, {}
+    for node, (chain, side, start) in chains.items():
+        bones = _chain_of(plan, by_name, node, start)
+        names = CHAIN_NAMES[chain].get(len(bones))
+        if names is None:
+            return None  # a torso of one bone: no Hips below the head
+        for spec, name in zip(bones, names):
+            renamed[spec.name] = None if name is None else SIDE_NAMES.get(side, "") + name
+            roles[spec.name] = chain
+    if len(renamed) != len(plan):
+        return None  # a bone outside the chains: not the shape find_humanoid saw
+    chest = next(name for name in CHEST_BONES if name in renamed.values())
+    result = []
+    for spec in plan:
+        parent, connect = renamed.get(spec.parent), spec.use_connect
+        if renamed[spec.name] is None:
+            continue
+        if parent is None and roles[spec.name] in ("arm", "leg"):  # at the pelvis or chest
+            parent, connect = (chest if roles[spec.name] == "arm" else "Hips"), False
+        result.append(replace(spec, name=renamed[spec.name], parent=parent,
+                              use_connect=connect))
+    return _parents_first(result)
+
+
+def _parents_first(plan):
+    """`plan` reordered so that every bone comes after its parent (breadth-first)."""
+    children = {}
+    for spec in plan:
+        children.setdefault(spec.parent, []).append(spec)
+    ordered, queue = [], deque(children.get(None, []))
+    while queue:
+        spec = queue.popleft()
+        ordered.append(spec)
+        queue.extend(children.get(spec.name, []))
+    return ordered
+
+
+def is_mixamo(plan):
+    """True when `plan` has the Mixamo names (plan_bones with names="mixamo" on a humanoid)."""
+    return any(spec.name == "Hips" for spec in plan)

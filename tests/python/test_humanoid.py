@@ -1,0 +1,147 @@
+"""dcg.humanoid: retarget-ready (Mixamo) bone names for humanoid skeletons, on hand-made
+skeletons and on real characters with their artists' rigs."""
+
+import types
+
+import numpy as np
+import pytest
+
+import dcg
+from dcg import bones, humanoid
+
+MIXAMO_BODY = {"Hips", "Spine", "Spine1", "Spine2", "Neck", "Head", "HeadTop_End"}
+MIXAMO_LIMBS = {side + name for side in ("Left", "Right") for name in (
+    "Shoulder", "Arm", "ForeArm", "Hand", "UpLeg", "Leg", "Foot", "ToeBase")}
+
+
+def stick_figure(nodes, kinds, links, root=0, samples=9):
+    """A skeleton whose links are straight polylines of `samples` points."""
+    positions = np.asarray(nodes, dtype=float)
+    polylines = [np.linspace(positions[a], positions[b], samples) for a, b in links]
+    return types.SimpleNamespace(
+        positions=positions, kinds=np.array(kinds), links=np.array(links),
+        polylines=polylines, root=root, radii=np.full(len(positions), 0.05))
+
+
+def person():
+    """Pelvis 0, chest 1, a head end, and hands and feet on either side of x = 0 (.L on +X);
+    the root at the chest."""
+    return stick_figure(
+        [[0, 0, 1.0], [0, 0, 1.5], [0, 0, 1.9], [0.8, 0, 1.45], [-0.8, 0, 1.45],
+         [0.2, 0.05, 0.0], [-0.2, 0.05, 0.0]],
+        ["joint", "joint", "end", "end", "end", "end", "end"],
+        [[0, 1], [1, 2], [1, 3], [1, 4], [0, 5], [0, 6]], root=1)
+
+
+def person_of_one_joint():
+    """A person whose head, arms and legs all leave the body at one joint (node 0)."""
+    return stick_figure(
+        [[0, 0, 1.0], [0, 0, 1.9], [0.8, 0, 1.45], [-0.8, 0, 1.45], [0.2, 0.05, 0.0],
+         [-0.2, 0.05, 0.0]],
+        ["joint", "end", "end", "end", "end", "end"],
+        [[0, 1], [0, 2], [0, 3], [0, 4], [0, 5]], root=0)
+
+
+def test_a_person_gets_mixamos_names_and_hierarchy():
+    plan = bones.plan_bones(person(), names="mixamo")
+    named = {spec.name: spec for spec in plan}
+    assert humanoid.is_mixamo(plan)
+    assert set(named) == MIXAMO_BODY | MIXAMO_LIMBS
+    assert [spec.name for spec in plan if spec.parent is None] == ["Hips"]
+    expected_parents = {"Spine": "Hips", "LeftUpLeg": "Hips", "RightUpLeg": "Hips",
+                        "Neck": "Spine2", "LeftShoulder": "Spine2", "LeftArm": "LeftShoulder",
+                        "LeftForeArm": "LeftArm", "LeftHand": "LeftForeArm",
+                        "RightLeg": "RightUpLeg", "Head": "Neck", "HeadTop_End": "Head"}
+    for name, parent in expected_parents.items():
+        assert named[name].parent == parent, name
+    seen = set()
+    for spec in plan:  # parents first
+        assert spec.parent is None or spec.parent in seen
+        seen.add(spec.name)
+    # Hips starts at the pelvis and points up the spine; the legs start at the hips, away from
+    # the pelvis (the pelvis-to-hip piece has no bone) and not connected to Hips.
+    assert np.allclose(named["Hips"].head, [0, 0, 1.0]) and named["Hips"].tail[2] > 1.0
+    assert not named["LeftUpLeg"].use_connect and named["LeftUpLeg"].head[0] > 0.02
+    assert named["LeftHand"].tail[0] > 0.5 and named["RightHand"].tail[0] < -0.5
+    assert named["LeftToeBase"].tail[2] < 0.2 and named["LeftToeBase"].tail[0] > 0
+
+
+def test_arms_and_legs_leaving_the_body_at_one_node_still_name_a_spine():
+    plan = bones.plan_bones(person_of_one_joint(), names="mixamo")
+    named = {spec.name: spec for spec in plan}
+    assert humanoid.is_mixamo(plan)
+    assert {"Hips", "Spine", "Neck", "Head"} <= set(named)
+    assert named["LeftShoulder"].parent in humanoid.CHEST_BONES
+    assert named["LeftUpLeg"].parent == "Hips"
+
+
+def test_other_shapes_keep_the_descriptive_names():
+    # A quadruped's five ends (four legs and a head) pair like a person's, but its legs stand
+    # across its spine: not upright, not humanoid.
+    quadruped = stick_figure(
+        [[0, -0.5, 1], [0, 0.5, 1], [0, 1.0, 1.3], [0.3, 0.5, 0], [-0.3, 0.5, 0],
+         [0.3, -0.5, 0], [-0.3, -0.5, 0]],
+        ["joint", "joint", "end", "end", "end", "end", "end"],
+        [[0, 1], [1, 2], [1, 3], [1, 4], [0, 5], [0, 6]])
+    extra_end = person()
+    extra_end.positions = np.vstack([extra_end.positions, [[0, -0.6, 0.9]]])  # a tail
+    extra_end.kinds = np.append(extra_end.kinds, "end")
+    extra_end.links = np.vstack([extra_end.links, [[0, 7]]])
+    extra_end.polylines = extra_end.polylines + [np.linspace([0, 0, 1.0], [0, -0.6, 0.9], 9)]
+    extra_end.radii = np.full(8, 0.05)
+    for skeleton in (quadruped, extra_end):
+        assert humanoid.find_humanoid(skeleton) is None
+        plan = bones.plan_bones(skeleton, names="mixamo")
+        assert not humanoid.is_mixamo(plan)
+        assert [s.name for s in plan] == [s.name for s in bones.plan_bones(skeleton)]
+
+
+def test_an_unknown_convention_is_refused():
+    with pytest.raises(ValueError, match="mixamo"):
+        bones.plan_bones(person(), names="unreal")
+
+
+@pytest.mark.parametrize("name", ["Q_Knight", "Q_Goblin", "CesiumMan"])
+def test_real_characters_are_humanoid_and_left_is_the_artists_left(meshes_dir, name):
+    """The artists' rigs name their sides (Foot.L, LowerArm.L; CesiumMan: by position), and
+    our Left bones lie on the same side as theirs."""
+    V, F = dcg.load_mesh(str(meshes_dir / "rigged" / f"{name}.obj"))
+    plan = bones.plan_bones(dcg.extract_skeleton(V, F), names="mixamo")
+    named = {spec.name: spec for spec in plan}
+    assert set(named) == MIXAMO_BODY | MIXAMO_LIMBS
+    joints = {}
+    for line in open(meshes_dir / "rigged" / f"{name}.rig.txt"):
+        if line.startswith("joints "):
+            fields = line.split()
+            joints[fields[1]] = np.array(fields[2:5], dtype=float)
+    for ours in ("LeftHand", "LeftFoot"):
+        # the artist's joint nearest to our bone's tail is on the same side of the middle
+        # as our bone (the artist's .L side where the rig names sides)
+        nearest = min(joints, key=lambda j: np.linalg.norm(joints[j] - named[ours].tail))
+        if nearest.endswith((".L", ".R")):
+            assert nearest.endswith(".L"), (ours, nearest)
+        right = named[ours.replace("Left", "Right")].tail
+        assert np.linalg.norm(joints[nearest] - named[ours].tail) < np.linalg.norm(
+            joints[nearest] - right), ours
+
+
+def test_the_batch_gets_the_same_mixamo_bones(meshes_dir, tmp_path):
+    import io
+
+    from dcg import batch_blender, batch_worker
+
+    V, F = dcg.load_mesh(str(meshes_dir / "knight.off"))
+    skeleton = dcg.extract_skeleton(V, F)
+    data, status = batch_worker.weights_npz(V, F, skeleton, bone_names="mixamo")
+    assert status == "ok"
+    with np.load(io.BytesIO(data)) as npz:
+        names = list(npz["bone_names"])
+    assert names == [spec.name for spec in bones.plan_bones(skeleton, names="mixamo")]
+    assert "Hips" in names and "LeftForeArm" in names
+    flags = batch_blender.cli_flags({}, 0.5, "mixamo")  # the .glb: the add-on's CLI
+    assert flags[flags.index("--bone-names") + 1] == "mixamo"
+    pytest.importorskip("distributed")
+    from dcg import batch
+
+    with pytest.raises(ValueError, match="bone_names"):
+        batch.run(meshes_dir, tmp_path, bone_names="unreal", progress=None)
