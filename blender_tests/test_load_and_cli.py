@@ -151,3 +151,20 @@ def test_cli_rejects_unknown_formats(repo, tmp_path):
     path.write_text("1 2 3\n")
     result = run_cli(repo, path)
     assert result.returncode == 1 and "unknown format" in result.stderr
+
+
+def test_cli_names_a_humanoids_bones_after_mixamo(repo, tmp_path):
+    import os
+
+    source = os.path.join(os.environ.get("DCG_MESHES", ""), "knight.off")
+    if not os.path.isfile(source):
+        pytest.skip(f"{source} not found (set DCG_MESHES)")
+    result = run_cli(repo, source, "-o", tmp_path / "k.blend", "--weights", "NONE",
+                     "--bone-names", "mixamo")
+    assert result.returncode == 0, result.stdout + result.stderr
+    with bpy.data.libraries.load(str(tmp_path / "k.blend")) as (source_data, target):
+        target.armatures = [n for n in source_data.armatures if "DCG Rig" in n]
+    (armature,) = target.armatures
+    names = {bone.name for bone in armature.bones}
+    bpy.data.armatures.remove(armature)
+    assert {"Hips", "Spine", "Head", "LeftForeArm", "RightUpLeg", "LeftFoot"} <= names
