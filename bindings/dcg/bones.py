@@ -66,6 +66,9 @@ BONES_PER_LINK = 5.0
 #: How much a narrowing (the radius dipping below the widest part on both sides, 0..1)
 #: draws a joint, against the squared distance of the polyline to the bones (in radii^2).
 NARROWING = 1.0
+#: How strongly a joint is drawn to the fraction of its limb's arc length a plan asks for
+#: (`articulations`' fractions), against the squared distances in radii^2.
+PRIOR = 10.0
 #: An end bone's tail stops this many radii (at its head) short of the end node.
 END_INSET = 1.0
 
@@ -113,7 +116,7 @@ def bone_count(links, segments, bone_detail):
     return max(1, min(segments, int(round(detail * BONES_PER_LINK * links))))
 
 
-def articulations(points, radii, bones):
+def articulations(points, radii, bones, fractions=None):
     """Return the indices of the points of a limb (#P by 3, radii #P) kept as joints: the
     two ends and bones - 1 inner points (every point when bones >= #P - 1).
 
@@ -121,7 +124,10 @@ def articulations(points, radii, bones):
     time, O(P^2) memory: a limb has tens of points, 4 per link as the engine samples them):
     the squared distances of the limb's points to the bones, in squared mean radii (so joints
     go where the centre line bends), less NARROWING x the narrowing at each inner joint
-    (where the limb is thinner than its widest part on both sides: a knee, a wrist, a neck).
+    (where the limb is thinner than its widest part on both sides: a knee, a wrist, a neck),
+    plus, with `fractions` (bones - 1 of them, first joint to last), PRIOR x the squared
+    difference between each inner joint's fraction of the limb's arc length and its own (where
+    a knee goes on a straight leg).
     """
     count = len(points)
     segments = count - 1
@@ -131,11 +137,15 @@ def articulations(points, radii, bones):
     cost = _fit_costs(np.asarray(points, dtype=float)) / scale
     gain = np.zeros(count)
     gain[1:-1] = NARROWING * _narrowing(np.asarray(radii, dtype=float))[1:-1]
+    prior = np.zeros((bones + 1, count))
+    if fractions is not None:
+        at = symmetry.arc_fractions(np.asarray(points, dtype=float))
+        prior[1:bones] = PRIOR * (at[None, :] - np.asarray(fractions, dtype=float)[:, None]) ** 2
     best = np.full(count, np.inf)
     best[0] = 0.0
     choice = np.zeros((bones + 1, count), dtype=np.int64)
     for k in range(1, bones + 1):  # best[b]: least cost of k bones from point 0 to point b
-        total = best[:, None] + cost - gain[None, :]
+        total = best[:, None] + cost - gain[None, :] + prior[k][None, :]
         choice[k] = np.argmin(total, axis=0)
         best = total[choice[k], np.arange(count)]
     keep = [segments]
@@ -271,8 +281,9 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_bones=N
 
     names: "dcg" (kind and counter, ``end.002.L``) or "mixamo" (`dcg.humanoid`: a humanoid
     skeleton's bones named and counted after Mixamo's rig, ``LeftForeArm``; any other skeleton
-    keeps the "dcg" names). limb_bones: {node: count}, the bones of the limb that ends at that
-    node instead of `bone_detail`'s (what the "mixamo" plan asks for).
+    keeps the "dcg" names). limb_bones: {node: count, or the fractions of arc length its inner
+    joints are drawn to (count - 1 of them, see `articulations`)}: the bones of the limb that
+    ends at that node instead of `bone_detail`'s (what the "mixamo" plan asks for).
     """
     if names not in BONE_NAME_CONVENTIONS:
         raise ValueError(f"names must be one of {', '.join(BONE_NAME_CONVENTIONS)}, "
@@ -290,11 +301,14 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_bones=N
     polylines = [limb_polyline(skeleton, limb) for limb in chains]
     plane, sides = _symmetry(skeleton, chains, polylines)
     segments = [len(polyline[0]) - 1 for polyline in polylines]
-    limb_bones = limb_bones or {}
-    wanted = _paired_counts([min(limb_bones[limb[-1][2]], count) if limb[-1][2] in limb_bones
-                             else bone_count(len(limb), count, bone_detail)
-                             for limb, count in zip(chains, segments)], segments, sides)
-    joints = limb_joints(plane, polylines, sides, wanted, min_length)
+    asked = [(limb_bones or {}).get(limb[-1][2]) for limb in chains]
+    wanted = _paired_counts([
+        bone_count(len(limb), count, bone_detail) if ask is None else
+        min(ask if isinstance(ask, int) else len(ask) + 1, count)
+        for limb, count, ask in zip(chains, segments, asked)], segments, sides)
+    fractions = [ask if not isinstance(ask, (int, type(None))) and len(ask) + 1 == count
+                 else None for ask, count in zip(asked, wanted)]
+    joints = limb_joints(plane, polylines, sides, wanted, min_length, fractions)
     if plane is not None:
         symmetrize(plane, skeleton, chains, sides, joints)
     return _chain_bones(skeleton, chains, sides, joints, _references(plane, positions, sides,
@@ -334,26 +348,27 @@ def _partners(sides):
     return {i: right[pair] for i, (side, pair) in enumerate(sides) if side == "L"}
 
 
-def limb_joints(plane, polylines, sides, counts, min_length):
+def limb_joints(plane, polylines, sides, counts, min_length, fractions=None):
     """Return a LimbJoints per limb (polylines: limb_polyline's per limb; sides: (side, pair)
     per limb; counts: bones per limb). A limb of the middle or of a shape without a mirror
     plane gets its own articulations; the two limbs of a pair the articulations of their mean
     (`symmetry.mean_polyline`): the .L limb's joints there and the .R limb's their mirror
     images, both as targets for `symmetrize`, the joints' own places as originals."""
     joints = [None] * len(polylines)
+    fractions = fractions or [None] * len(polylines)
     for i, j in _partners(sides).items():
         joints[i], joints[j] = _paired_joints(plane, polylines[i], polylines[j], counts[i],
-                                              min_length)
+                                              min_length, fractions[i])
     for i, (points, nodes, segment_links, radii) in enumerate(polylines):
         if joints[i] is None:
-            keep = np.array(_drop_short(points, articulations(points, radii, counts[i]),
-                                        min_length))
+            keep = np.array(_drop_short(
+                points, articulations(points, radii, counts[i], fractions[i]), min_length))
             joints[i] = LimbJoints(points[keep], points[keep], radii[keep], radii[keep],
                                    nodes[keep], segment_links[keep[1:] - 1])
     return joints
 
 
-def _paired_joints(plane, left, right, count, min_length):
+def _paired_joints(plane, left, right, count, min_length, fractions=None):
     """(LimbJoints of the .L limb, of the .R limb) of a pair (see limb_joints). The joints are
     the articulations of the pair's mean at equal fractions of arc length (both limbs' shapes
     count alike there); their targets are the midpoints of each .L joint and the mirror image
@@ -363,7 +378,8 @@ def _paired_joints(plane, left, right, count, min_length):
     points_r, nodes_r, links_r, radii_r = right
     ends = (points_l, radii_l), (points_r, radii_r)
     shape, shape_radii = symmetry.mean_polyline(plane, *ends, symmetry.arc_fractions(points_l))
-    keep = np.array(_drop_short(shape, articulations(shape, shape_radii, count), min_length))
+    keep = np.array(_drop_short(shape, articulations(shape, shape_radii, count, fractions),
+                                min_length))
     where = symmetry.nearest_fractions(plane, points_l, points_r)
     mean, radii = symmetry.mean_polyline(plane, *ends, where)
     at_r, where = symmetry.arc_fractions(points_r), where[keep]

@@ -22,8 +22,9 @@ its chain (`CHAIN_NAMES`: fewer bones where a limb has fewer polyline segments):
 Hips is the spine's first bone (its head at the pelvis), the legs its children (not
 connected: they start at its head). Left is the .L side of the plan (the side the plane's
 normal points to: +X, the character's left for a model facing -Y, as Blender's .L). The
-joints are the planner's own (`dcg.bones.articulations`, mirrored across the plane): only
-the count per chain is Mixamo's, so `bone_detail` does not apply.
+joints are the planner's own (`dcg.bones.articulations`, mirrored across the plane), drawn on
+straight stretches to CHAIN_FRACTIONS of their chain; the count per chain is Mixamo's, so
+`bone_detail` does not apply.
 """
 
 from collections import deque
@@ -55,6 +56,18 @@ CHAIN_NAMES = {
 }
 #: A leg's first bone of five runs from the pelvis out to the hip (None: no bone there): the
 #: thigh's bone, UpLeg, starts at the hip as Hips' child, as in Mixamo's rig.
+#: Where the inner joints of each chain of Mixamo's full count are drawn to on a limb that
+#: is straight there (fractions of the chain's arc length, first to last: hip, knee, ankle,
+#: ball of the foot; shoulder, elbow, wrist; skull base...), measured on the rigged
+#: characters' artists' skeletons; bends and narrowings still place them where they are
+#: (dcg.bones.articulations, PRIOR).
+CHAIN_FRACTIONS = {
+    "trunk": (0.25, 0.5, 0.75),
+    "neck": (0.3, 0.85),
+    "torso": (0.12, 0.3, 0.45, 0.6, 0.75, 0.95),
+    "arm": (0.22, 0.54, 0.87),
+    "leg": (0.15, 0.52, 0.85, 0.93),
+}
 #: The bones the arms hang from, the first there is: the top of the spine.
 CHEST_BONES = ("Spine2", "Spine1", "Spine", "Hips")
 SIDE_NAMES = {"L": "Left", "R": "Right"}
@@ -210,7 +223,7 @@ def mixamo_plan(skeleton):
         return None
     chains = _chain_ends(body)
     plan = plan_bones(_rooted(skeleton, body.pelvis), limb_bones={
-        node: max(CHAIN_NAMES[chain]) for node, (chain, _, _) in chains.items()})
+        node: CHAIN_FRACTIONS[chain] for node, (chain, _, _) in chains.items()})
     by_name = {spec.name: spec for spec in plan}
     renamed, roles = {}, {}
     for node, (chain, side, start) in chains.items():

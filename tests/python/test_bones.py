@@ -430,3 +430,13 @@ def test_bone_arrays_carry_the_z_axes_and_rolls():
     assert np.array_equal(arrays["rolls"], [spec.roll for spec in plan])
     empty = bones.bone_arrays([])
     assert empty["z_axes"].shape == (0, 3) and empty["rolls"].shape == (0,)
+
+
+def test_on_a_straight_limb_joints_go_to_the_fractions_asked_for():
+    points = np.linspace([0, 0, 0], [0, 0, 2], 21)  # 20 segments of 0.1
+    radii = np.full(21, 0.2)
+    assert bones.articulations(points, radii, 3, fractions=(0.3, 0.8)) == [0, 6, 16, 20]
+    # a bend still wins over a fraction asked for
+    bent = points.copy()
+    bent[11:, 0] = (np.arange(11, 21) - 10) * 0.1
+    assert bones.articulations(bent, radii, 2, fractions=(0.3,)) == [0, 10, 20]
