@@ -50,6 +50,11 @@ CHAIN_NAMES = {
               7: ("Hips", "Spine", "Spine1", "Spine2", "Neck", "Head", "HeadTop_End")},
     "arm": {1: ("Arm",), 2: ("Arm", "ForeArm"), 3: ("Arm", "ForeArm", "Hand"),
             4: ("Shoulder", "Arm", "ForeArm", "Hand")},
+    # an arm that leaves the body at the pelvis's node (one torso joint): it first runs up
+    # the torso's side, where it has no bone
+    "low arm": {1: ("Arm",), 2: ("Arm", "ForeArm"), 3: ("Arm", "ForeArm", "Hand"),
+                4: ("Shoulder", "Arm", "ForeArm", "Hand"),
+                5: (None, "Shoulder", "Arm", "ForeArm", "Hand")},
     "leg": {1: ("UpLeg",), 2: ("UpLeg", "Leg"), 3: ("UpLeg", "Leg", "Foot"),
             4: ("UpLeg", "Leg", "Foot", "ToeBase"),
             5: (None, "UpLeg", "Leg", "Foot", "ToeBase")},
@@ -66,6 +71,7 @@ CHAIN_FRACTIONS = {
     "neck": (0.3, 0.85),
     "torso": (0.12, 0.3, 0.45, 0.6, 0.75, 0.95),
     "arm": (0.22, 0.54, 0.87),
+    "low arm": (0.25, 0.39, 0.68, 0.88),
     "leg": (0.15, 0.52, 0.85, 0.93),
 }
 #: The bones the arms hang from, the first there is: the top of the spine.
@@ -200,7 +206,8 @@ def _chain_ends(body):
         chains = {body.chest: ("trunk", None, body.pelvis),
                   body.head: ("neck", None, body.chest)}
     for side in ("L", "R"):
-        chains[body.hands[side]] = ("arm", side, body.chest)
+        arm = "low arm" if body.chest == body.pelvis else "arm"
+        chains[body.hands[side]] = (arm, side, body.chest)
         chains[body.feet[side]] = ("leg", side, body.pelvis)
     return chains
 
@@ -242,8 +249,8 @@ def mixamo_plan(skeleton):
         parent, connect = renamed.get(spec.parent), spec.use_connect
         if renamed[spec.name] is None:
             continue
-        if parent is None and roles[spec.name] in ("arm", "leg"):  # at the pelvis or chest
-            parent, connect = (chest if roles[spec.name] == "arm" else "Hips"), False
+        if parent is None and roles[spec.name] in ("arm", "low arm", "leg"):  # at the pelvis
+            parent, connect = ("Hips" if roles[spec.name] == "leg" else chest), False
         result.append(replace(spec, name=renamed[spec.name], parent=parent,
                               use_connect=connect))
     return _parents_first(result)
