@@ -101,7 +101,14 @@ struct SurfaceQuery::Impl {
   RTCScene scene = nullptr;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // Embree holds vertices - center
   std::vector<Eigen::Vector3d> face_normal;          // unit (zero for degenerate faces)
-  std::vector<Eigen::Vector3d> vertex_normal;        // angle-weighted pseudo-normals
+  // Each face's corners and unit normal side by side: the closest-point callback reads one
+  // face's 96 bytes from one place instead of its index row, three vertex rows and its normal
+  // from five (stage 1's closest points on the hand: about a third faster, same doubles).
+  struct Triangle {
+    Eigen::Vector3d a, b, c, normal;
+  };
+  std::vector<Triangle> triangle;
+  std::vector<Eigen::Vector3d> vertex_normal;  // angle-weighted pseudo-normals
   // Edge pseudo-normals: per face corner k, the edge (F(f,k), F(f,(k+1)%3)).
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normal;
   double diag = 1.0;
@@ -123,19 +130,17 @@ struct SurfaceQuery::Impl {
 
   static bool on_triangle(RTCPointQueryFunctionArguments* args) {
     auto* c = static_cast<Closest*>(args->userPtr);
-    const Mesh& m = c->self->mesh;
     const int f = static_cast<int>(args->primID);
-    const Eigen::Vector3d a = m.V.row(m.F(f, 0)).transpose();
+    const Triangle& t = c->self->triangle[static_cast<std::size_t>(f)];
     // The distance to the triangle's plane bounds the distance to the triangle from below: a
     // triangle whose plane is farther than the best point so far cannot hold a better one. Most
     // triangles the BVH hands over are such (a Voronoi ball's sphere hugs the surface around its
     // contact points), and the test costs a tenth of the closest point. Kept 1e-9 x the diagonal
     // on the safe side of rounding.
-    const double plane = std::abs(c->self->face_normal[f].dot(c->p - a));
+    const double plane = std::abs(t.normal.dot(c->p - t.a));
     if (plane - c->self->prune_tolerance > c->best) return false;
     std::array<double, 3> l;
-    const Eigen::Vector3d q = closest_on_triangle(c->p, a, m.V.row(m.F(f, 1)).transpose(),
-                                                  m.V.row(m.F(f, 2)).transpose(), l);
+    const Eigen::Vector3d q = closest_on_triangle(c->p, t.a, t.b, t.c, l);
     const double d = (q - c->p).norm();
     if (d < c->best || (c->face < 0 && d <= c->best)) {
       c->best = d;
@@ -278,10 +283,12 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
     m.vertex_normal.resize(std::min(nv, v + kChunk), Eigen::Vector3d::Zero());
   }
   m.face_normal.reserve(nf);
+  m.triangle.reserve(nf);
   m.edge_normal.reserve(nf);
   for (int f = 0; f < nf; f += kChunk) {
     if (poll) poll();
     m.face_normal.resize(std::min(nf, f + kChunk), Eigen::Vector3d::Zero());
+    m.triangle.resize(std::min(nf, f + kChunk));
     m.edge_normal.resize(
         std::min(nf, f + kChunk),
         {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
@@ -293,6 +300,7 @@ SurfaceQuery::SurfaceQuery(const Mesh& mesh, const std::function<void()>& poll)
     Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
     m.face_normal[f] = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+    m.triangle[f] = {a, b, c, m.face_normal[f]};
     const Eigen::Vector3d P[3] = {a, b, c};
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d e1 = P[(k + 1) % 3] - P[k], e2 = P[(k + 2) % 3] - P[k];

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <queue>
 #include <random>
 #include <string>
@@ -262,6 +263,30 @@ Balls drop_balls_outside(Balls balls, const SurfaceQuery& query,
   return balls;
 }
 
+// Indices of `points` (inside the box lo-hi) in Morton order (10 bits per axis; ties keep their
+// order).
+std::vector<std::size_t> morton_order(const std::vector<Eigen::Vector3d>& points,
+                                      const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  auto spread = [](std::uint64_t v) {  // bits b of v to bits 3b
+    std::uint64_t r = 0;
+    for (int bit = 0; bit < 10; ++bit) r |= ((v >> bit) & 1) << (3 * bit);
+    return r;
+  };
+  const Eigen::Vector3d scale = 1023.0 * (hi - lo).cwiseMax(1e-300).cwiseInverse();
+  std::vector<std::uint64_t> key(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d u = ((points[i] - lo).cwiseProduct(scale)).cwiseMax(0.0).cwiseMin(1023.0);
+    key[i] = spread(static_cast<std::uint64_t>(u.x())) |
+             spread(static_cast<std::uint64_t>(u.y())) << 1 |
+             spread(static_cast<std::uint64_t>(u.z())) << 2;
+  }
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return key[a] < key[b]; });
+  return order;
+}
+
 }  // namespace
 
 Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
@@ -303,10 +328,14 @@ Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
   }
   std::vector<double> radius(centers.size(), -1.0);
   // In chunks, polling between them (never from TBB's workers).
+  // In Morton order of the centers: neighbouring queries walk the same part of the BVH (the
+  // stage's closest points: 27 -> 22 ms on the hand; each center's distance is its own).
+  const std::vector<std::size_t> order = morton_order(centers, lo.transpose(), hi.transpose());
   internal::parallel_chunks(
       centers.size(), std::size_t(internal::per_thread(1024)), std::size_t{256},
       tick.part(0.45, 0.9), [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        for (std::size_t o = range.begin(); o != range.end(); ++o) {
+          const std::size_t i = order[o];
           const double sd =
               query.signed_distance(centers[i], candidates[hint[i]], candidate_face[hint[i]]);
           if (sd < 0) radius[i] = -sd;
