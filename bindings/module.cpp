@@ -3,6 +3,9 @@
 #include "common.h"
 
 #include <cstring>
+#include <memory>
+
+#include <tbb/global_control.h>
 
 #include "dcg/errors.h"
 
@@ -38,4 +41,19 @@ PYBIND11_MODULE(_core, m) {
   dcg_py::bind_results(m);
   dcg_py::bind_pipeline(m);
   dcg_py::bind_weights(m);
+  m.def(
+      "limit_threads",
+      [](int count) {
+        // One limit per process, replaced by the next call; 0 lifts it (TBB's default: every
+        // core). The engine's parallel loops then use at most `count` threads.
+        static std::unique_ptr<tbb::global_control> limit;
+        limit.reset();
+        if (count > 0) {
+          limit = std::make_unique<tbb::global_control>(
+              tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(count));
+        }
+        return static_cast<int>(
+            tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+      },
+      pybind11::arg("count"));
 }

@@ -3,6 +3,7 @@
 
     /usr/bin/python3 scripts/bench_compare.py [--reference scripts/bench_reference.json]
                                               [--threshold 0.25] [--min-seconds 0.02]
+                                              [--mcf-min-seconds 0.1]
                                               [out/bench/summary.json]
 
 The measure is, per mesh, our total over CGAL's MCF seconds on the same mesh in the same run
@@ -10,8 +11,10 @@ The measure is, per mesh, our total over CGAL's MCF seconds on the same mesh in 
 when the machine is faster, slower or busier. A mesh regresses when that ratio grew by more
 than --threshold (0.25: 25%) over the reference and the growth costs at least --min-seconds of
 our time (today's MCF seconds times the ratio's growth; it keeps the jitter of meshes that take
-a few milliseconds out). Meshes that MCF does not run on (open, pinched, failed) are compared
-by our total divided by the machine factor: the median, over the meshes with MCF in both
+a few milliseconds out). Meshes that MCF does not run on (open, pinched, failed), or on which
+it took less than --mcf-min-seconds in either summary (its time on a few hundred faces swings
+by 2x from run to run: the ratio would flag noise), are compared by our total divided by the
+machine factor: the median, over the meshes with MCF in both
 summaries, of MCF's seconds now over its seconds in the reference. A mesh that fails now but
 did not in the reference is a regression too. New meshes and meshes missing from the summary
 are listed, not flagged.
@@ -31,6 +34,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 THRESHOLD = 0.25
 MIN_SECONDS = 0.02
+MCF_MIN_SECONDS = 0.1
 
 # Statuses of a row; the first two make the exit status 1.
 REGRESSED, ERROR = "REGRESSED", "ERROR"
@@ -70,7 +74,8 @@ def _grown_stage(ref, cur, scale):
     return max(grown, key=lambda g: g[1]) if grown else None
 
 
-def compare_mesh(key, ref, cur, factor, threshold=THRESHOLD, min_seconds=MIN_SECONDS):
+def compare_mesh(key, ref, cur, factor, threshold=THRESHOLD, min_seconds=MIN_SECONDS,
+                 mcf_min_seconds=MCF_MIN_SECONDS):
     """One row: key, status, basis ("ours/MCF", "total / machine", ""), reference and current
     value of that basis, change (current / reference - 1), grown stage, note."""
     row = {"mesh": key, "status": NOT_COMPARED, "basis": "", "reference": None, "current": None,
@@ -92,7 +97,9 @@ def compare_mesh(key, ref, cur, factor, threshold=THRESHOLD, min_seconds=MIN_SEC
         row.update(note="no total in " + ("the reference" if ref_total is None else "this run"))
         return row
     ref_ratio, cur_ratio = _number(ref, "ours_over_mcf"), _number(cur, "ours_over_mcf")
-    if ref_ratio and cur_ratio:
+    long_enough = ref_ratio and cur_ratio and min(
+        _number(ref, "mcf_seconds"), _number(cur, "mcf_seconds")) >= mcf_min_seconds
+    if long_enough:
         scale = _number(cur, "mcf_seconds") / _number(ref, "mcf_seconds")
         row.update(basis="ours/MCF", reference=ref_ratio, current=cur_ratio)
         change = cur_ratio / ref_ratio - 1
@@ -119,13 +126,14 @@ def compare_mesh(key, ref, cur, factor, threshold=THRESHOLD, min_seconds=MIN_SEC
     return row
 
 
-def compare(reference, current, threshold=THRESHOLD, min_seconds=MIN_SECONDS):
+def compare(reference, current, threshold=THRESHOLD, min_seconds=MIN_SECONDS,
+            mcf_min_seconds=MCF_MIN_SECONDS):
     """(rows, machine factor): a row per mesh of either summary, the reference's order first,
     then the new meshes."""
     factor = machine_factor(reference, current)
     keys = list(reference) + [k for k in current if k not in reference]
-    rows = [compare_mesh(k, reference.get(k), current.get(k), factor, threshold, min_seconds)
-            for k in keys]
+    rows = [compare_mesh(k, reference.get(k), current.get(k), factor, threshold, min_seconds,
+                         mcf_min_seconds) for k in keys]
     return rows, factor
 
 
@@ -172,6 +180,9 @@ def main(argv=None):
                         help="flag a ratio that grew by more than this (default 0.25)")
     parser.add_argument("--min-seconds", type=float, default=MIN_SECONDS,
                         help="and that costs at least this many of our seconds (default 0.02)")
+    parser.add_argument("--mcf-min-seconds", type=float, default=MCF_MIN_SECONDS,
+                        help="compare by our total over the machine factor where MCF took less "
+                             "(default 0.1)")
     args = parser.parse_args(argv)
     try:
         reference = load_summary(args.reference)
@@ -179,7 +190,8 @@ def main(argv=None):
     except (OSError, ValueError) as e:
         print(f"bench_compare: {e}", file=sys.stderr)
         return 2
-    rows, factor = compare(reference, current, args.threshold, args.min_seconds)
+    rows, factor = compare(reference, current, args.threshold, args.min_seconds,
+                           args.mcf_min_seconds)
     print(f"Speed against {args.reference} ({args.summary}):\n")
     print(format_table(rows, factor, args.threshold))
     return 1 if regressions(rows) else 0

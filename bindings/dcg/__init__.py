@@ -63,6 +63,7 @@ __all__ = [
     "PreparedMesh", "Prongs", "extract_skeleton", "load_mesh", "as_mesh",
     "SkinWeights", "skin_weights", "BoneHeat", "ProngHierarchy", "DomainBalls", "EndPoints",
     "Field", "FieldSamples", "ConnectionPoints", "DomainGraph", "Remapped", "repair_summary",
+    "limit_threads",
 ]
 __version__ = "0.1.0"
 
@@ -71,6 +72,16 @@ Cancelled = _core.Cancelled
 
 #: progress(stage, fraction) -> bool | None; return False to cancel.
 ProgressCallback = Callable[[str, float], Optional[bool]]
+
+
+def limit_threads(count: int) -> int:
+    """Let the engine's parallel loops in this process use at most `count` threads (0: every
+    core, the default); return the limit now in force. For processes that share a machine's
+    cores with others: `dcg batch`'s workers each use their own share (one per core on a local
+    cluster), not every core apiece."""
+    if isinstance(count, bool) or not isinstance(count, int) or count < 0:
+        raise ValueError(f"count must be a whole number >= 0, got {count!r}")
+    return _core.limit_threads(count)
 
 
 def load_mesh(path) -> Tuple[np.ndarray, np.ndarray]:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import dcg
-from conftest import cube
+from conftest import REPO, cube
 
 FAST = {"samples": 1200, "target_faces": 5000}
 
@@ -216,3 +216,17 @@ def test_repair_summary_says_what_stage_0_did(meshes_dir):
     prepared = dcg.Extractor(V, F).prepare()
     assert prepared.wrap_alpha == 0 and prepared.report["fin_faces"] == 4
     assert "leaving out 4 faces of zero-volume fins" in dcg.repair_summary(prepared)
+
+
+def test_limit_threads_caps_the_engines_threads_and_lifts_again():
+    import os
+
+    try:
+        assert dcg.limit_threads(1) == 1
+        V, F = dcg.load_mesh(str(REPO / "data" / "spot.obj"))
+        assert dcg.extract_skeleton(V, F).method == "dcg"  # runs on one thread
+    finally:
+        assert dcg.limit_threads(0) == len(os.sched_getaffinity(0))
+    for bad in (-1, 1.5, True, "2"):
+        with pytest.raises(ValueError, match="whole number"):
+            dcg.limit_threads(bad)
