@@ -226,7 +226,8 @@ def test_limit_threads_caps_the_engines_threads_and_lifts_again():
         V, F = dcg.load_mesh(str(REPO / "data" / "spot.obj"))
         assert dcg.extract_skeleton(V, F).method == "dcg"  # runs on one thread
     finally:
-        assert dcg.limit_threads(0) == len(os.sched_getaffinity(0))
+        lifted = dcg.limit_threads(0)  # TBB's default: the cores it may use (affinity, quota)
+        assert 1 <= lifted <= len(os.sched_getaffinity(0))
     for bad in (-1, 1.5, True, "2"):
         with pytest.raises(ValueError, match="whole number"):
             dcg.limit_threads(bad)
