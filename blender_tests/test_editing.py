@@ -180,3 +180,14 @@ def test_mixamo_names_for_a_humanoid_and_a_warning_for_a_cow(knight, spot, capfd
     assert "not humanoid" in _printed(capfd)
     rigs = [o for o in bpy.data.objects if o.type == "ARMATURE" and spot.parent == o]
     assert rigs and not any(b.name == "Hips" for b in rigs[0].data.bones)
+
+
+def test_clear_removes_the_preview_skeleton_even_in_its_edit_mode(spot):
+    assert preview() == {"FINISHED"}
+    skeleton = preview_skeleton(spot)
+    bpy.context.view_layer.objects.active = skeleton
+    bpy.ops.object.mode_set(mode="EDIT")
+    assert bpy.ops.object.dcg_clear() == {"FINISHED"}
+    assert bpy.data.collections.get("DCG Preview") is None
+    assert not [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    assert bpy.context.mode == "OBJECT"

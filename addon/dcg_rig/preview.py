@@ -48,6 +48,9 @@ def clear_preview():
     collection = bpy.data.collections.get(COLLECTION_NAME)
     if collection is None:
         return
+    active = bpy.context.object
+    if active is not None and active.mode != "OBJECT" and active.name in collection.objects:
+        bpy.ops.object.mode_set(mode="OBJECT")  # the preview skeleton in Edit Mode: leave it
     for obj in list(collection.objects):
         data, blocks = obj.data, bpy.data.armatures if obj.type == "ARMATURE" else bpy.data.meshes
         bpy.data.objects.remove(obj)
