@@ -3,6 +3,7 @@ named after Mixamo's rig, so that animation libraries made for it retarget onto 
 
     plan = dcg.bones.plan_bones(skeleton, names="mixamo")   # humanoid: Hips, Spine, ...
     body = dcg.humanoid.find_humanoid(skeleton)             # a Humanoid, or None
+    plane = dcg.humanoid.plan_plane(skeleton)               # what its Left/Right mirror across
     dcg.humanoid.is_mixamo(plan)                            # did the names apply?
 
 A skeleton is humanoid (`find_humanoid`) when it is a tree with five ends and a mirror plane
@@ -35,6 +36,7 @@ import numpy as np
 
 from . import symmetry
 from .bones import plan_bones
+from .bones import plan_plane as bones_plan_plane
 
 #: Bone names of each chain by how many bones it has (the most: Mixamo's own chain). The
 #: trunk runs from the pelvis to the chest, the neck from the chest to the head's end; where
@@ -267,6 +269,13 @@ def _parents_first(plan):
         ordered.append(spec)
         queue.extend(children.get(spec.name, []))
     return ordered
+
+
+def plan_plane(skeleton):
+    """The plane the Mixamo plan of a humanoid `skeleton` mirrors across (dcg.bones.plan_plane
+    of the skeleton rooted at the pelvis), or None when it is not humanoid."""
+    body = find_humanoid(skeleton)
+    return None if body is None else bones_plan_plane(_rooted(skeleton, body.pelvis))
 
 
 def is_mixamo(plan):

@@ -102,11 +102,12 @@ def test_an_unknown_convention_is_refused():
 
 
 @pytest.mark.parametrize("name", ["Q_Knight", "Q_Goblin", "CesiumMan"])
-def test_real_characters_are_humanoid_and_left_is_the_artists_left(meshes_dir, name):
+def test_real_characters_are_humanoid_left_is_the_artists_left_and_mirrors(meshes_dir, name):
     """The artists' rigs name their sides (Foot.L, LowerArm.L; CesiumMan: by position), and
     our Left bones lie on the same side as theirs."""
     V, F = dcg.load_mesh(str(meshes_dir / "rigged" / f"{name}.obj"))
-    plan = bones.plan_bones(dcg.extract_skeleton(V, F), names="mixamo")
+    skeleton = dcg.extract_skeleton(V, F)
+    plan = bones.plan_bones(skeleton, names="mixamo")
     named = {spec.name: spec for spec in plan}
     assert set(named) == MIXAMO_BODY | MIXAMO_LIMBS
     joints = {}
@@ -123,6 +124,12 @@ def test_real_characters_are_humanoid_and_left_is_the_artists_left(meshes_dir, n
         right = named[ours.replace("Left", "Right")].tail
         assert np.linalg.norm(joints[nearest] - named[ours].tail) < np.linalg.norm(
             joints[nearest] - right), ours
+    # Left and Right bones mirror each other across the plan's plane, within 1% of the size
+    plane, size = humanoid.plan_plane(skeleton), float(np.ptp(V, axis=0).max())
+    for left in (n for n in named if n.startswith("Left")):
+        right = named["Right" + left[len("Left"):]]
+        for a, b in ((named[left].head, right.head), (named[left].tail, right.tail)):
+            assert np.linalg.norm(plane.reflect(a) - b) < 0.01 * size, left
 
 
 def test_the_batch_gets_the_same_mixamo_bones(meshes_dir, tmp_path):
