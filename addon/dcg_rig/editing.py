@@ -100,6 +100,7 @@ def edited_plan(engine, mesh_obj):
 
 
 def _parents_first(bones):
+    """Blender's bones, each after its parent (breadth-first from the roots)."""
     ordered, queue = [], [b for b in bones if b.parent is None]
     while queue:
         bone = queue.pop(0)

@@ -216,8 +216,10 @@ def _chain_ends(body):
 
 def _chain_of(plan, by_name, end_node, start_node):
     """The bones of the chain that ends at `end_node`, first to last: from the bone whose tail
-    is that node up to the one that leaves `start_node` (or a root)."""
-    bone = next(spec for spec in plan if spec.node == end_node)
+    is that node up to the one that leaves `start_node` (or a root); [] when no bone ends there."""
+    bone = next((spec for spec in plan if spec.node == end_node), None)
+    if bone is None:
+        return []
     chain = [bone]
     while chain[-1].parent is not None and by_name[chain[-1].parent].node != start_node:
         chain.append(by_name[chain[-1].parent])
@@ -239,7 +241,7 @@ def mixamo_plan(skeleton):
         bones = _chain_of(plan, by_name, node, start)
         names = CHAIN_NAMES[chain].get(len(bones))
         if names is None:
-            return None  # a torso of one bone: no Hips below the head
+            return None  # no bone, or a torso of one bone: no Hips below the head
         for spec, name in zip(bones, names):
             renamed[spec.name] = None if name is None else SIDE_NAMES.get(side, "") + name
             roles[spec.name] = chain
