@@ -191,3 +191,31 @@ def test_clear_removes_the_preview_skeleton_even_in_its_edit_mode(spot):
     assert bpy.data.collections.get("DCG Preview") is None
     assert not [o for o in bpy.data.objects if o.type == "ARMATURE"]
     assert bpy.context.mode == "OBJECT"
+
+
+def test_posing_a_mixamo_hand_moves_that_hand_and_no_other_end(knight):
+    """The Mixamo plan's own hierarchy (legs hanging unconnected from Hips, arms from the top
+    of the spine) deforms like the descriptive one: the left hand's bone moves the left hand's
+    tip, and the other hand, the feet and the head stay."""
+    from mathutils import Matrix
+
+    assert rig(bone_names="MIXAMO") == {"FINISHED"}  # DCG weights
+    arm = the_rig()
+    V0 = np.array([knight.matrix_world @ v.co for v in knight.data.vertices])
+    diagonal = float(np.linalg.norm(np.ptp(V0, axis=0)))
+    tips = {name: int(np.argmin(np.linalg.norm(
+        V0 - world(arm, arm.data.bones[name].tail_local), axis=1)))
+        for name in ("LeftHand", "RightHand", "LeftToeBase", "RightToeBase", "HeadTop_End")}
+    pose_bone = arm.pose.bones["LeftHand"]
+    pose_bone.rotation_mode = "QUATERNION"
+    pose_bone.rotation_quaternion = Matrix.Rotation(np.pi / 4, 4, "X").to_quaternion()
+    bpy.context.view_layer.update()
+    evaluated = knight.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        V1 = np.array([evaluated.matrix_world @ v.co for v in mesh.vertices])
+    finally:
+        evaluated.to_mesh_clear()
+    moved = {name: float(np.linalg.norm(V1[i] - V0[i])) / diagonal for name, i in tips.items()}
+    assert moved.pop("LeftHand") > 1e-3, "the hand's own tip moved"
+    assert max(moved.values()) < 1e-4, moved
