@@ -219,3 +219,22 @@ def test_posing_a_mixamo_hand_moves_that_hand_and_no_other_end(knight):
     moved = {name: float(np.linalg.norm(V1[i] - V0[i])) / diagonal for name, i in tips.items()}
     assert moved.pop("LeftHand") > 1e-3, "the hand's own tip moved"
     assert max(moved.values()) < 1e-4, moved
+
+
+def test_mirror_skeleton_edit_of_mixamo_bones(knight):
+    from dcg_rig import editing
+
+    assert preview(bone_names="MIXAMO") == {"FINISHED"}
+    skeleton = preview_skeleton(knight)
+    assert "LeftForeArm" in skeleton.data.bones
+    size = float(np.linalg.norm(skeleton.dimensions))
+    with edit_mode(skeleton, knight) as edit_bones:
+        edit_bones["RightForeArm"].tail += Vector((0.0, 0.03 * size, 0.0))
+    bpy.context.view_layer.objects.active = skeleton
+    assert bpy.ops.dcg.mirror_skeleton(source="R") == {"FINISHED"}
+    plane = np.array(skeleton[editing.MIRROR_PLANE])
+    bones = skeleton.data.bones
+    mirrored = world(skeleton, bones["RightForeArm"].tail_local)
+    mirrored -= 2.0 * (mirrored @ plane[:3] - plane[3]) * plane[:3]
+    np.testing.assert_allclose(world(skeleton, bones["LeftForeArm"].tail_local), mirrored,
+                               atol=1e-5 * size)

@@ -238,8 +238,10 @@ def show_preview(context, mesh_obj, extractor, values):
     collection = preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
     plan, warnings = rigging.plan_bones(skeleton, values["bone_detail"], values["bone_names"])
     if plan:
-        editing.add_editable_skeleton(context, mesh_obj, plan,
-                                      _engine.require().bones.plan_plane(skeleton), collection)
+        engine = _engine.require()
+        mixamo = engine.humanoid.is_mixamo(plan)  # planned from the pelvis: its own plane
+        plane = (engine.humanoid if mixamo else engine.bones).plan_plane(skeleton)
+        editing.add_editable_skeleton(context, mesh_obj, plan, plane, collection)
     return warnings
 
 
