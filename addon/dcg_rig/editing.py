@@ -17,7 +17,7 @@ import json
 import bpy
 import numpy as np
 
-from . import armature
+from . import _engine, armature
 
 PREVIEW_OF = "dcg_preview_of"  #: the mesh object's name, on the preview armature
 PLANNED = "dcg_planned"        #: the bones as planned (JSON), to tell an edit
@@ -38,17 +38,20 @@ def add_editable_skeleton(context, mesh_obj, plan, plane, collection):
     arm_obj[PLANNED] = json.dumps(_bones_state(arm_obj))
     if plane is not None:
         arm_obj[MIRROR_PLANE] = [*map(float, plane.normal), float(plane.offset)]
-        arm_obj.data.use_mirror_x = _is_local_x_mirror(arm_obj, plane)
+        arm_obj.data.use_mirror_x = _is_local_x_mirror(arm_obj, plane, plan)
     return arm_obj
 
 
-def _is_local_x_mirror(arm_obj, plane):
-    """True when the mirror plane is the armature's own x = 0 (Blender's X-Axis Mirror)."""
+def _is_local_x_mirror(arm_obj, plane, plan):
+    """True when the mirror plane is the armature's own x = 0 (Blender's X-Axis Mirror), within
+    1e-3 of the plan's size (its bones' extent: the object's dimensions are not yet
+    evaluated)."""
     matrix = np.array(arm_obj.matrix_world, dtype=float)
     normal = matrix[:3, :3].T @ plane.normal
     length = float(np.linalg.norm(normal))
     offset = (plane.offset - plane.normal @ matrix[:3, 3]) / max(length, 1e-12)
-    size = max(float(np.linalg.norm(arm_obj.dimensions)), 1e-12)
+    ends = np.array([point for spec in plan for point in (spec.head, spec.tail)])
+    size = max(float(np.linalg.norm(np.ptp(ends, axis=0))), 1e-12)
     return bool(abs(normal[0]) > 0.999 * length and abs(offset) < 1e-3 * size)
 
 
@@ -135,15 +138,11 @@ def plan_of_armature(engine, arm_obj):
 
 
 def partner_name(name):
-    """The other side's name (``end.002.L`` / ``end.002.R``, ``LeftArm`` / ``RightArm``), or
-    None for a bone of the middle."""
-    for left, right, at_end in ((".L", ".R", True), ("Left", "Right", False)):
-        for this, other in ((left, right), (right, left)):
-            if at_end and name.endswith(this):
-                return name[:-len(this)] + other
-            if not at_end and name.startswith(this):
-                return other + name[len(this):]
-    return None
+    """The other side's name (``end.002.L`` / ``end.002.R``, ``LeftArm`` / ``RightArm``: the
+    pairs Blender's own mirror tools make, bpy.utils.flip_name), or None for a bone of the
+    middle."""
+    flipped = bpy.utils.flip_name(name)
+    return None if flipped == name else flipped
 
 
 def side_of(name):
@@ -160,16 +159,16 @@ def mirror_edit(arm_obj, source="L"):
     plane) of its partner on the `source` side ("L" or "R"): the selected ones in Edit Mode
     when any is selected, else all. Return (bones mirrored, source bones without a partner).
     The armature must be the active object; its mode is kept."""
-    plane = arm_obj.get(MIRROR_PLANE)
-    if plane is None:
+    stored = arm_obj.get(MIRROR_PLANE)
+    if stored is None:
         raise ValueError(f"{arm_obj.name} has no mirror plane: the shape is not symmetric")
-    normal, offset = np.array(plane[:3], dtype=float), float(plane[3])
+    plane = _engine.require().symmetry.Plane(np.array(stored[:3], dtype=float),
+                                             float(stored[3]), 0.0)
     matrix = np.array(arm_obj.matrix_world, dtype=float)
     inverse = np.linalg.inv(matrix)
 
-    def reflect(point):
-        world = matrix[:3, :3] @ np.array(point) + matrix[:3, 3]
-        world = world - 2.0 * (world @ normal - offset) * normal
+    def reflect(point):  # an armature-space point mirrored across the world-space plane
+        world = plane.reflect(matrix[:3, :3] @ np.array(point) + matrix[:3, 3])
         return inverse[:3, :3] @ world + inverse[:3, 3]
 
     mode = arm_obj.mode
@@ -185,8 +184,7 @@ def mirror_edit(arm_obj, source="L"):
             if other is None:
                 missing += 1
                 continue
-            z_world = matrix[:3, :3] @ np.array(bone.z_axis)
-            z_world -= 2.0 * (z_world @ normal) * normal
+            z_world = plane.reflect_direction(matrix[:3, :3] @ np.array(bone.z_axis))
             other.head, other.tail = reflect(bone.head).tolist(), reflect(bone.tail).tolist()
             other.align_roll((inverse[:3, :3] @ z_world).tolist())
             done += 1

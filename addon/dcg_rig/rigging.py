@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import bpy
 
-from . import _engine, armature, mesh_io, preview, weights
+from . import _engine, armature, mesh_io, options, preview, weights
 
 
 class RigError(Exception):
@@ -76,7 +76,7 @@ def reusable_prepared(mesh_obj, prepared):
     return prepared
 
 
-def plan_bones(skeleton, bone_detail=0.5, bone_names="DCG"):
+def plan_bones(skeleton, bone_detail, bone_names):
     """(the bone plan of `skeleton`, warnings): the package's planner (dcg.bones.plan_bones)
     at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"; a warning when Mixamo's
     names were asked for a skeleton that is not humanoid)."""
@@ -89,8 +89,9 @@ def plan_bones(skeleton, bone_detail=0.5, bone_names="DCG"):
     return plan, warnings
 
 
-def apply_rig(context, mesh_obj, skeleton, weight_method="DCG", bone_detail=0.5,
-              prepared=None, engine_options=None, bone_names="DCG", plan=None):
+def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS["weights"],
+              bone_detail=options.ADDON_DEFAULTS["bone_detail"], prepared=None,
+              engine_options=None, bone_names=options.ADDON_DEFAULTS["bone_names"], plan=None):
     """Rig `mesh_obj` from `skeleton` (world coordinates); return a RigResult.
 
     The bones are `plan` when given (world space: the edited preview skeleton), else the

@@ -39,7 +39,7 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from . import _core, bones, humanoid, rolls  # noqa: F401  (the bone planner, its names, rolls)
+from . import _core, bones, humanoid, rolls, symmetry  # noqa: F401  (the bone planner's parts)
 from .options import OPTIONS, SKELETON_OPTIONS, OptionInfo, normalize_options
 from .skeleton import FORMAT, Skeleton
 from .weights import BoneHeat, SkinWeights, skin_weights

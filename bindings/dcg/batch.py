@@ -52,7 +52,7 @@ from .batch_jobs import (BLENDER_FORMATS, ENGINE_FORMATS, SUFFIXES, BatchError, 
                          options_key, outputs_of)
 from .batch_progress import Progress, Summary
 from .batch_worker import rig_model, weights_npz
-from .bones import BONE_DETAIL, BONE_NAME_CONVENTIONS, BONE_NAMES
+from .bones import BONE_DETAIL, BONE_NAMES, check_bone_names
 
 __all__ = [
     "run", "BatchError", "Job", "Summary", "Progress", "rig_model", "weights_npz",
@@ -108,9 +108,7 @@ def run(in_dir, out_dir, *, options: Optional[Dict[str, Any]] = None,
         raise BatchError(f"input folder {in_dir} does not exist")
     if not 0.0 <= bone_detail <= 1.0:
         raise ValueError(f"bone_detail must be between 0 and 1, got {bone_detail}")
-    if bone_names not in BONE_NAME_CONVENTIONS:
-        raise ValueError(f"bone_names must be one of {', '.join(BONE_NAME_CONVENTIONS)}, "
-                         f"got {bone_names!r}")
+    check_bone_names(bone_names)
     options = dict(options or {})
     key = options_key({**normalize_options(options), "bone_detail": float(bone_detail),
                        **({} if bone_names == BONE_NAMES else {"bone_names": bone_names})})

@@ -269,7 +269,7 @@ def limb_polyline(skeleton, limb):
     return points, nodes, np.array(segment_links, dtype=np.int64), radii
 
 
-def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_bones=None):
+def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractions=None):
     """Return the list of BoneSpec for `skeleton`, parents before children.
 
     `skeleton` needs positions (#N by 3), kinds (#N), radii (#N), links (#L by 2),
@@ -281,13 +281,12 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_bones=N
 
     names: "dcg" (kind and counter, ``end.002.L``) or "mixamo" (`dcg.humanoid`: a humanoid
     skeleton's bones named and counted after Mixamo's rig, ``LeftForeArm``; any other skeleton
-    keeps the "dcg" names). limb_bones: {node: count, or the fractions of arc length its inner
-    joints are drawn to (count - 1 of them, see `articulations`)}: the bones of the limb that
-    ends at that node instead of `bone_detail`'s (what the "mixamo" plan asks for).
+    keeps the "dcg" names). limb_fractions: {node: the fractions of arc length the inner joints
+    of the limb that ends at that node are drawn to (see `articulations`)}: that limb gets one
+    bone more than fractions (fewer if it has fewer polyline segments, then no fractions)
+    instead of `bone_detail`'s count (what the "mixamo" plan asks for).
     """
-    if names not in BONE_NAME_CONVENTIONS:
-        raise ValueError(f"names must be one of {', '.join(BONE_NAME_CONVENTIONS)}, "
-                         f"got {names!r}")
+    check_bone_names(names)
     if names == "mixamo":
         from . import humanoid  # it plans with this function
 
@@ -301,18 +300,24 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_bones=N
     polylines = [limb_polyline(skeleton, limb) for limb in chains]
     plane, sides = _symmetry(skeleton, chains, polylines)
     segments = [len(polyline[0]) - 1 for polyline in polylines]
-    asked = [(limb_bones or {}).get(limb[-1][2]) for limb in chains]
+    asked = [(limb_fractions or {}).get(limb[-1][2]) for limb in chains]
     wanted = _paired_counts([
-        bone_count(len(limb), count, bone_detail) if ask is None else
-        min(ask if isinstance(ask, int) else len(ask) + 1, count)
+        bone_count(len(limb), count, bone_detail) if ask is None else min(len(ask) + 1, count)
         for limb, count, ask in zip(chains, segments, asked)], segments, sides)
-    fractions = [ask if not isinstance(ask, (int, type(None))) and len(ask) + 1 == count
-                 else None for ask, count in zip(asked, wanted)]
+    fractions = [ask if ask is not None and len(ask) + 1 == count else None
+                 for ask, count in zip(asked, wanted)]
     joints = limb_joints(plane, polylines, sides, wanted, min_length, fractions)
     if plane is not None:
         symmetrize(plane, skeleton, chains, sides, joints)
     return _chain_bones(skeleton, chains, sides, joints, _references(plane, positions, sides,
                                                                      joints))
+
+
+def check_bone_names(names):
+    """ValueError unless `names` is one of BONE_NAME_CONVENTIONS."""
+    if names not in BONE_NAME_CONVENTIONS:
+        raise ValueError(f"bone_names (the naming convention) must be one of "
+                         f"{', '.join(BONE_NAME_CONVENTIONS)}, got {names!r}")
 
 
 def plan_plane(skeleton):

@@ -233,7 +233,7 @@ def mixamo_plan(skeleton):
     if body is None:
         return None
     chains = _chain_ends(body)
-    plan = plan_bones(_rooted(skeleton, body.pelvis), limb_bones={
+    plan = plan_bones(_rooted(skeleton, body.pelvis), limb_fractions={
         node: CHAIN_FRACTIONS[chain] for node, (chain, _, _) in chains.items()})
     by_name = {spec.name: spec for spec in plan}
     renamed, roles = {}, {}
