@@ -167,14 +167,36 @@ std::vector<Eigen::Vector3d> route(const Eigen::Vector3d& a, const Eigen::Vector
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
   heap.push({to_b(0), 0});
-  auto relax = [&](int u, int v) {
-    if (done[v]) return;
-    const double nd = dist[u] + (pts[u] - pts[v]).norm();
-    if (nd >= dist[v] || query.segment_blocked(pts[u], pts[v])) return;
-    dist[v] = nd;
-    prev[v] = u;
-    heap.push({nd + to_b(v), v});
+  // The hops from u that would shorten a way, their rays cast 8 at a time (Embree packets),
+  // then taken in order: each hop's test depends on u alone, so the order of the searches is
+  // the one a ray per hop gives.
+  std::vector<int> hops;
+  std::vector<double> from, to;
+  std::vector<unsigned char> blocked;
+  auto relax = [&](int u, const auto& candidates) {
+    hops.clear();
+    from.clear();
+    to.clear();
+    for (const int v : candidates) {
+      if (done[v] || dist[u] + (pts[u] - pts[v]).norm() >= dist[v]) continue;
+      hops.push_back(v);
+      from.insert(from.end(), pts[u].data(), pts[u].data() + 3);
+      to.insert(to.end(), pts[v].data(), pts[v].data() + 3);
+    }
+    blocked.assign(hops.size(), 0);
+    query.segments_blocked(from.data(), to.data(), static_cast<int>(hops.size()), 0,
+                           blocked.data());
+    for (std::size_t h = 0; h < hops.size(); ++h) {
+      const int v = hops[h];
+      const double nd = dist[u] + (pts[u] - pts[v]).norm();
+      if (blocked[h] || nd >= dist[v]) continue;
+      dist[v] = nd;
+      prev[v] = u;
+      heap.push({nd + to_b(v), v});
+    }
   };
+  std::vector<int> everyone(n);
+  std::iota(everyone.begin(), everyone.end(), 0);
   while (!heap.empty()) {
     const int u = heap.top().second;
     heap.pop();
@@ -182,11 +204,11 @@ std::vector<Eigen::Vector3d> route(const Eigen::Vector3d& a, const Eigen::Vector
     done[u] = 1;
     if (u == 1) break;
     if (!grid) {
-      for (int v = 0; v < n; ++v) relax(u, v);
+      relax(u, everyone);
     } else {
       grid->nearest(u, kNearest, near);
-      for (const int v : near) relax(u, v);
-      relax(u, 1);  // b itself may be farther than the nearest, and in view
+      near.push_back(1);  // b itself may be farther than the nearest, and in view
+      relax(u, near);
     }
   }
   if (!done[1]) return {};
@@ -260,6 +282,7 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
   const double n = field.options().force_exponent;
   Eigen::MatrixXd uv(m + 2, 2), force(m, 2), last_gradient = Eigen::MatrixXd::Zero(m, 2);
   std::vector<double> damping(m, 1.0);
+  std::vector<FieldSample> samples(m);
   // The fixed ends' part of the semi-implicit step below (the ends never move).
   Eigen::MatrixXd ends = Eigen::MatrixXd::Zero(m + 2, 2);
   for (const int i : {0, m + 1}) {
@@ -275,10 +298,16 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
       uv(i, 0) = q.dot(e1);
       uv(i, 1) = q.dot(e2);
     }
-    // External force: - c r^(n+2) grad |F| in the plane (the field's own gradient, one fan).
+    // External force: - c r^(n+2) grad |F| in the plane (the field's own gradient, one fan a
+    // point). The fans run in parallel: a long link would otherwise keep one thread busy while
+    // the others wait for it.
+    tbb::parallel_for(tbb::blocked_range<int>(0, m, 4), [&](const tbb::blocked_range<int>& range) {
+      for (int j = range.begin(); j != range.end(); ++j)
+        samples[j] = field.at_with_gradient(p.row(j + 1).transpose());
+    });
     for (int j = 0; j < m; ++j) {
       const int i = j + 1;
-      const FieldSample f = field.at_with_gradient(p.row(i).transpose());
+      const FieldSample& f = samples[j];
       if (!f.inside()) {  // on or past the surface (it cannot be: the start is inside)
         force.row(j).setZero();
         continue;
