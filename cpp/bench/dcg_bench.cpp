@@ -10,7 +10,8 @@
 //   {"type":"mesh","mesh":"hand.obj","faces":9556,"stages":{"prepare":0.05,...},"total":0.2,
 //    "mcf":{"status":"ok","seconds":0.34,...},"ratio":1.7,"error":null,...}
 // "stages" holds whatever the Extractor timed, in the order it ran (new stages appear by
-// themselves); "total" is the engine's own sum; "ratio" = MCF seconds / total. A mesh that fails
+// themselves); "total" is the engine's own time for the run (the stages' sum, less the time stage
+// 3 ran beside stages 1-2 on a second thread); "ratio" = MCF seconds / total. A mesh that fails
 // gets its message in "error" and the run goes on. Progress goes to stderr.
 // Quality, outside the timings: "engine" holds our skeleton's ends, joints, connections,
 // cycles and inside % (samples along the skeleton inside the input by ray parity), "mcf" the

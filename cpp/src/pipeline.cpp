@@ -4,9 +4,11 @@
 #include "dcg/pipeline.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <exception>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 #include "dcg/errors.h"
@@ -39,6 +41,12 @@ Extractor::Extractor(Vertices V, Faces F, Options options, ProgressCallback prog
 }
 
 Extractor::~Extractor() = default;
+
+double Extractor::timings_seconds(const std::string& stage) const {
+  for (const auto& t : timings_)
+    if (t.first == stage) return t.second;
+  return 0;
+}
 
 void Extractor::timed(const std::string& stage, double seconds) {
   for (auto& t : timings_) {
@@ -84,16 +92,66 @@ const DomainBalls& Extractor::domain_balls() {
   return *domain_;
 }
 
+ProngFeatures Extractor::compute_prongs_stage(const Progress& progress) {
+  ProngOptions po = options_.prongs;
+  po.seed = options_.seed;
+  return compute_prongs(prepare().working, po, progress, kProngs, kField);
+}
+
 const ProngFeatures& Extractor::prongs() {
   if (!prongs_) {
-    const Mesh& working = prepare().working;
+    prepare();
     const double t0 = now_seconds();
-    ProngOptions po = options_.prongs;
-    po.seed = options_.seed;
-    prongs_ = compute_prongs(working, po, progress_, kProngs, kField);
+    prongs_ = compute_prongs_stage(progress_);
     timed("prongs", now_seconds() - t0);
   }
   return *prongs_;
+}
+
+// Stage 3 needs the working mesh only. Stage 1's sampling and Delaunay triangulation run on one
+// thread (a third of a small mesh's run), so on a second thread the scale function's Dijkstras
+// fill the cores meanwhile (hand.obj 133 -> 112 ms, cheetah 75 -> 64 ms). The second thread reports
+// no progress (the user sees stages 1-2, then stage 3 done); it polls a flag that this thread sets
+// when it stops early (cancelled, or an error), and this thread waits for it before anything
+// propagates. Its results are those of prongs() run alone (every stage's result is independent of
+// threads).
+void Extractor::prongs_beside_balls() {
+  prepare();
+  if (prongs_ || voronoi_ || internal::max_threads() < 2) return;
+  std::atomic<bool> stop{false};
+  std::optional<ProngFeatures> found;
+  std::exception_ptr failed;
+  double seconds = 0;
+  internal::Completion done;
+  std::thread worker([&] {
+    const double t0 = now_seconds();
+    try {
+      found = compute_prongs_stage(Progress([&](const std::string&, double) { return !stop; }));
+    } catch (...) {
+      failed = std::current_exception();
+    }
+    seconds = now_seconds() - t0;
+    done.set();
+  });
+  const double t0 = now_seconds();
+  try {
+    voronoi_balls();
+    domain_balls();
+    const auto waiting = [&] { progress_.report("prongs", kProngs); };
+    waiting();
+    done.wait_polling(waiting);
+  } catch (...) {
+    stop = true;
+    worker.join();
+    throw;
+  }
+  worker.join();
+  if (failed) std::rethrow_exception(failed);
+  const double together = now_seconds() - t0;
+  const double alone = timings_seconds("voronoi_balls") + timings_seconds("domain_balls") + seconds;
+  overlapped_ += std::max(0.0, alone - together);
+  prongs_ = std::move(found);
+  timed("prongs", seconds);
 }
 
 Prongs Extractor::prongs_at(double tau) { return prongs().hierarchy.prongs(tau); }
@@ -217,7 +275,7 @@ void Extractor::finish(Skeleton& s) {
   s.timings = timings_;
   double total = 0;
   for (const auto& t : timings_) total += t.second;
-  s.timings.emplace_back("total", total);
+  s.timings.emplace_back("total", std::max(0.0, total - overlapped_));
 }
 
 Skeleton Extractor::interim_skeleton() {
@@ -235,6 +293,7 @@ const Skeleton& Extractor::skeleton() {
   if (!skeleton_) {
     // Stage by stage, in the order of their progress fractions.
     prepare();
+    prongs_beside_balls();
     voronoi_balls();
     domain_balls();
     prongs();

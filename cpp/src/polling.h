@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -44,6 +45,14 @@ class ThrottledProgress {
   double from_, to_;
   std::chrono::steady_clock::time_point last_{};
 };
+
+/// The threads the engine's parallel loops may use: the cores, or fewer under a
+/// tbb::global_control limit (dcg.limit_threads).
+inline int max_threads() {
+  return static_cast<int>(std::min<std::size_t>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
+      static_cast<std::size_t>(tbb::this_task_arena::max_concurrency())));
+}
 
 /// `items` for each thread TBB may use: a chunk size for parallel_chunks that keeps every thread
 /// busy and each chunk about as long on any machine.

@@ -77,12 +77,20 @@ class Extractor {
   /// The skeleton built from the domain points alone (minimum spanning tree, twigs pruned,
   /// method "interim_graph"), in input coordinates: the fallback of skeleton().
   Skeleton interim_skeleton();
-  /// Seconds per stage run so far, in the order they ran.
+  /// Seconds per stage run so far, in the order they ran. skeleton() runs stage 3 on a thread of
+  /// its own beside stages 1-2 (when the engine may use more than one thread): each stage's
+  /// seconds are its own, and the skeleton's "total" is the time the run took, less than their
+  /// sum by the time the two overlapped.
+
   const std::vector<std::pair<std::string, double>>& timings() const { return timings_; }
 
  private:
   const SurfaceQuery& query();
+  ProngFeatures compute_prongs_stage(const Progress& progress);
+  // Stage 3 on its own thread while this one runs stages 1 and 2.
+  void prongs_beside_balls();
   void timed(const std::string& stage, double seconds);
+  double timings_seconds(const std::string& stage) const;  // 0 when it has not run
   // Normalized skeleton -> input coordinates, input face labels, mesh facts and timings.
   void finish(Skeleton& s);
 
@@ -102,6 +110,7 @@ class Extractor {
   std::optional<Remapped> remapped_;
   std::optional<Skeleton> skeleton_;
   std::vector<std::pair<std::string, double>> timings_;
+  double overlapped_ = 0;  // seconds stages ran at the same time (prongs_beside_balls)
 };
 
 /// One call: all stages with `options`. Throws InputError, Cancelled.
