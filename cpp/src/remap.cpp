@@ -226,8 +226,11 @@ struct LinkResult {
   int refused = 0;
 };
 
+// `retried`: a link with no route will be tried again with more waypoints, so it is left
+// unfitted (its snake would be thrown away).
 LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double ra, double rb,
-                      const ForceField& field, const Points& waypoints, const RemapOptions& o) {
+                      const ForceField& field, const Points& waypoints, const RemapOptions& o,
+                      bool retried) {
   const SurfaceQuery& query = field.query();
   LinkResult out;
   const double chord = (b - a).norm();
@@ -251,7 +254,7 @@ LinkResult snake_link(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double
   Points p = resample(path, inner + 2);
   const int count = static_cast<int>(p.rows());  // more than inner + 2 on a route of many hops
   out.polyline = p;
-  if (chord <= 0 || o.snake_iterations <= 0) return out;
+  if (chord <= 0 || o.snake_iterations <= 0 || (out.unrouted && retried)) return out;
 
   // The plane of each inner point: normal to the chord.
   const Eigen::Vector3d dir = (b - a) / chord;
@@ -373,21 +376,23 @@ Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Ed
   std::vector<LinkResult> results(K);
   internal::ThrottledProgress tick(progress, kStage, from, to);
   tick(0);
-  // Links are independent: a few per thread at a time (a link takes a few ms), polled between.
-  auto snake_links = [&](const std::vector<int>& which, const Points& through, double a, double b) {
-    internal::parallel_chunks(static_cast<int>(which.size()), internal::per_thread(2), 1,
+  // Links are independent: 8 per thread at a time (a link takes up to a few ms; 2 per thread
+  // left threads idle behind the slowest link of each chunk), polled between.
+  auto snake_links = [&](const std::vector<int>& which, const Points& through, bool retried,
+                         double a, double b) {
+    internal::parallel_chunks(static_cast<int>(which.size()), internal::per_thread(8), 1,
                               tick.part(a, b), [&](const tbb::blocked_range<int>& r) {
                                 for (int k = r.begin(); k != r.end(); ++k) {
                                   const int l = which[k], p = links(l, 0), q = links(l, 1);
-                                  results[l] =
-                                      snake_link(nodes.row(p).transpose(), nodes.row(q).transpose(),
-                                                 radii[p], radii[q], field, through, options);
+                                  results[l] = snake_link(
+                                      nodes.row(p).transpose(), nodes.row(q).transpose(), radii[p],
+                                      radii[q], field, through, options, retried);
                                 }
                               });
   };
   std::vector<int> every(K);
   std::iota(every.begin(), every.end(), 0);
-  snake_links(every, waypoints, 0, 0.7);
+  snake_links(every, waypoints, static_cast<bool>(more_waypoints), 0, 0.7);
   // Links with no route: again, with the extra waypoints as well.
   std::vector<int> unrouted;
   for (int l = 0; l < K; ++l)
@@ -398,7 +403,7 @@ Remapped remap_links(const Points& nodes, const Eigen::VectorXd& radii, const Ed
         more_waypoints(progress, from + 0.7 * (to - from), from + 0.8 * (to - from));
     Points all(waypoints.rows() + more.rows(), 3);
     all << waypoints, more;
-    snake_links(unrouted, all, 0.8, 1);
+    snake_links(unrouted, all, false, 0.8, 1);
   }
   for (int l = 0; l < K; ++l) {
     out.polylines[l] = std::move(results[l].polyline);
