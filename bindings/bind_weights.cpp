@@ -5,18 +5,33 @@
 // validates the arrays and turns bones given as a skeleton or a bone list into heads and tails.
 #include "result_class.h"
 
+#include <limits>
 #include "dcg/errors.h"
 #include "dcg/pipeline.h"
+
 #include "dcg/prepare.h"
 #include "dcg/weights.h"
 
 namespace dcg_py {
 namespace {
 
-dcg::Bones make_bones(const dcg::Points& heads, const dcg::Points& tails) {
+// parents: None (found from the bones' ends, see dcg::Bones) or #B indices, -1 at a root.
+dcg::Bones make_bones(const dcg::Points& heads, const dcg::Points& tails,
+                      const py::object& parents = py::none()) {
   dcg::Bones bones;
   bones.heads = heads;
   bones.tails = tails;
+  if (!parents.is_none()) {
+    const auto p = parents.cast<Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>>();
+    bones.parents.resize(p.size());
+    for (Eigen::Index b = 0; b < p.size(); ++b) {
+      if (p[b] < -1 || p[b] > std::numeric_limits<int>::max()) {
+        throw dcg::InputError("bone " + std::to_string(b) + " has parent " + std::to_string(p[b]) +
+                              ", not -1 or another bone");
+      }
+      bones.parents[b] = static_cast<int>(p[b]);
+    }
+  }
   return bones;
 }
 
@@ -87,17 +102,18 @@ void bind_weights(py::module_& m) {
   m.def(
       "skin_weights",
       [](const dcg::Vertices& V, const Faces64& F, const dcg::Points& heads,
-         const dcg::Points& tails, const py::dict& options, py::object progress) {
+         const dcg::Points& tails, const py::dict& options, py::object progress,
+         const py::object& parents) {
         const dcg::Faces faces = to_faces(F, V.rows());
         const dcg::Options o = options_from_dict(options);
-        const dcg::Bones bones = make_bones(heads, tails);
+        const dcg::Bones bones = make_bones(heads, tails, parents);
         ProgressBridge bridge(std::move(progress));
         return run_released(bridge, [&] {
           return dcg::compute_skin_weights(V, faces, bones, o, bridge.callback());
         });
       },
       py::arg("V"), py::arg("F"), py::arg("heads"), py::arg("tails"), py::arg("options"),
-      py::arg("progress") = py::none(),
+      py::arg("progress") = py::none(), py::arg("parents") = py::none(),
       "Bone heat weights of V's vertices (on V itself, or stage 0's working mesh when large), "
       "as SkinWeights.");
   m.def(
@@ -113,7 +129,7 @@ void bind_weights(py::module_& m) {
          const Eigen::Vector3d& offset,
          const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& map_face,
          const dcg::Vertices& map_barycentric, const dcg::Points& heads, const dcg::Points& tails,
-         const py::dict& options, py::object progress) {
+         const py::dict& options, py::object progress, const py::object& parents) {
         dcg::PreparedMesh prepared;
         prepared.working.V = working_V;
         prepared.working.F = to_faces(working_F, working_V.rows());
@@ -132,7 +148,7 @@ void bind_weights(py::module_& m) {
         }
         prepared.map_barycentric = map_barycentric;
         const dcg::WeightsOptions o = options_from_dict(options).weights;
-        const dcg::Bones bones = make_bones(heads, tails);
+        const dcg::Bones bones = make_bones(heads, tails, parents);
         ProgressBridge bridge(std::move(progress));
         return run_released(bridge, [&] {
           return dcg::compute_skin_weights(prepared, bones, o, bridge.callback());
@@ -140,7 +156,7 @@ void bind_weights(py::module_& m) {
       },
       py::arg("working_V"), py::arg("working_F"), py::arg("scale"), py::arg("offset"),
       py::arg("map_face"), py::arg("map_barycentric"), py::arg("heads"), py::arg("tails"),
-      py::arg("options"), py::arg("progress") = py::none(),
+      py::arg("options"), py::arg("progress") = py::none(), py::arg("parents") = py::none(),
       "Bone heat weights from a stage-0 result (dcg.PreparedMesh's arrays).");
 }
 

@@ -8,7 +8,7 @@ skeletons (make bench). Runs inside Blender:
 Per character (NAME.obj + NAME.rig.txt): the artist's skeleton as one bone per joint
 (dcg.metrics.joint_bones: head at the joint, tail at its children's mean, leaves half their
 parent bone on), as a Blender armature; then, in the same run,
-  ours:    dcg.skin_weights(V, F, heads, tails)
+  ours:    dcg.skin_weights(V, F, heads, tails, parents=rig.parents)
   blender: bpy.ops.object.parent_set(type='ARMATURE_AUTO') (bone heat), its vertex groups
 each compared with the artist's weights (column j = joint j: a bone's weight belongs to the
 joint at its head) by dcg.metrics.weight_metrics: L1, precision and recall of influences above
@@ -95,7 +95,7 @@ def measure(name, obj, rig_path, seed) -> dict:
     rig = metrics.read_rig_info(rig_path, len(V))
     heads, tails = metrics.joint_bones(rig.joints, rig.parents)
     start = time.perf_counter()
-    ours = dcg.skin_weights(V, F, heads, tails).dense()
+    ours = dcg.skin_weights(V, F, heads, tails, parents=rig.parents).dense()
     weights = {"ours": (ours, time.perf_counter() - start),
                "blender": bone_heat(V, F, rig, heads, tails)}
     row = {"name": name, "vertices": len(V), "joints": len(rig.joints)}
@@ -129,7 +129,7 @@ def report(args, rows):
     lines += [f"Blender {bpy.app.version_string}. Characters of `{args.rigged}`, each on its "
               "artist's skeleton (one bone per joint: head at the joint, tail at its children's "
               "mean, a leaf half its parent bone on; the weight of a bone is its head joint's). "
-              "Ours: `dcg.skin_weights(V, F, heads, tails)`; bone heat: Blender's "
+              "Ours: `dcg.skin_weights(V, F, heads, tails, parents)`; bone heat: Blender's "
               "`parent_set(type='ARMATURE_AUTO')` on the same armature, same run. L1: mean over "
               "vertices of the summed absolute difference (0..2); precision / recall: of the "
               "influences above 1e-4, per vertex, averaged; deformation error: mean vertex gap "

@@ -58,8 +58,8 @@ def weights_npz(V, F, skeleton, prepared=None, progress=None,
     elif len(bones["names"]) == 0:
         status = "unavailable: the skeleton has no bones"
     else:
-        result = skin_weights(V, F, bones["heads"], bones["tails"], prepared=prepared,
-                              progress=progress, **(options or {}))
+        result = skin_weights(V, F, bones["heads"], bones["tails"], parents=bones["parents"],
+                              prepared=prepared, progress=progress, **(options or {}))
         W = np.asarray(result.dense(), dtype=np.float32)
         status = "ok"
     arrays = {f"bone_{key}": value for key, value in bones.items()}

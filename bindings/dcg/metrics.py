@@ -3,7 +3,7 @@
     from dcg import metrics
     rig = metrics.read_rig_info("Fox.rig.txt", vertex_count=len(V))   # RigNet's rig_info
     heads, tails = metrics.joint_bones(rig.joints, rig.parents)       # one bone per joint
-    W = dcg.skin_weights(V, F, heads, tails).dense()                 # #V x #J, column = joint
+    W = dcg.skin_weights(V, F, heads, tails, parents=rig.parents).dense()  # #V x #J: joints
     metrics.weight_metrics(V, W, rig.weights, rig.joints, rig.parents)
     # {"l1", "precision", "recall", "deformation_error", "unweighted"}
     metrics.skeleton_metrics(V, heads, tails, rig.joints, rig.parents)

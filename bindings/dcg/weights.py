@@ -50,13 +50,14 @@ def _points(name, array) -> np.ndarray:
     return array
 
 
-def _bones(bones, tails) -> Tuple[np.ndarray, np.ndarray]:
-    """Heads and tails from (heads, tails) arrays, a Skeleton or a list of bone objects."""
+def _bones(bones, tails, parents=None):
+    """Heads, tails and parents (None: found from the bones' ends) from (heads, tails) arrays, a
+    Skeleton or a list of bone objects (with .parent, a name of another, when they have it)."""
     if tails is not None:
         heads, tails = _points("heads", bones), _points("tails", tails)
     elif hasattr(bones, "polylines") and hasattr(bones, "links"):
         plan = bone_arrays(plan_bones(bones))
-        heads, tails = plan["heads"], plan["tails"]
+        heads, tails, parents = plan["heads"], plan["tails"], plan["parents"]
     else:
         try:
             items = list(bones)
@@ -66,6 +67,9 @@ def _bones(bones, tails) -> Tuple[np.ndarray, np.ndarray]:
         if items and all(hasattr(b, "head") and hasattr(b, "tail") for b in items):
             heads = _points("heads", [np.asarray(b.head, dtype=float) for b in items])
             tails = _points("tails", [np.asarray(b.tail, dtype=float) for b in items])
+            if parents is None and all(hasattr(b, "parent") and hasattr(b, "name") for b in items):
+                index = {b.name: i for i, b in enumerate(items)}
+                parents = [index.get(b.parent, -1) if b.parent is not None else -1 for b in items]
         else:
             raise ValueError("bones must be a Skeleton, a non-empty list of bones with .head "
                              "and .tail, or heads with tails")
@@ -73,10 +77,16 @@ def _bones(bones, tails) -> Tuple[np.ndarray, np.ndarray]:
         raise ValueError(f"got {len(heads)} heads and {len(tails)} tails")
     if len(heads) == 0:
         raise ValueError("weights need at least one bone")
-    return heads, tails
+    if parents is not None:
+        parents = np.asarray(parents).reshape(-1)
+        if len(parents) != len(heads) or not np.issubdtype(parents.dtype, np.integer):
+            raise ValueError(f"parents must be {len(heads)} bone indices (-1: a root), got "
+                             f"{parents.dtype} x {len(parents)}")
+        parents = parents.astype(np.int64)
+    return heads, tails, parents
 
 
-def skin_weights(V, F, bones, tails=None, *, prepared=None,
+def skin_weights(V, F, bones, tails=None, *, parents=None, prepared=None,
                  progress: Optional[Callable[[str, float], Optional[bool]]] = None,
                  **options) -> SkinWeights:
     """Bone heat skinning weights of the vertices of (V #V x 3, F #F x 3).
@@ -84,14 +94,18 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
     bones: a #B x 3 array of heads with `tails` (#B x 3), or a dcg.Skeleton (its bones as
     dcg.bones.plan_bones plans them at the default bone_detail: the add-on's and the batch's
     bones, in plan order), or a list of objects with .head and .tail (a plan of another
-    bone_detail). Bones are in V's coordinates. Column b of the result is bone b.
+    bone_detail). Bones are in V's coordinates. Column b of the result is bone b. parents: #B
+    indices of each bone's parent (-1 at a root) for heads and tails; a Skeleton or a plan
+    brings its own; else a bone's parent is the first bone whose tail is at its head. The bone
+    tree limits which bones share a vertex (bone_reach, far_weight).
 
     The weights solve on (V, F) itself (welded cracks, degenerate faces dropped), unless it has
     more than 2.5 x target_faces faces: then on stage 0's working mesh, the one the skeleton gets
     with the same options. prepared: a dcg.PreparedMesh of this same (V, F)
     (Extractor.prepare()) to reuse in that case instead of running stage 0 again (checked, and
     unused for a smaller input). options: any of dcg.OPTIONS; the weights use max_influences
-    (4), heat (4.0), min_weight (0.05), tie_tolerance (1e-4), target_faces (what is large) and,
+    (4), heat (4.0), min_weight (0.05), bone_reach (3), far_weight (0.1), tie_tolerance (1e-4),
+    target_faces (what is large) and,
     for a large input, stage 0's (repair, upsample, seed); the skeleton's other options are
     checked and unused, so the same **options work for both calls. progress(stage, fraction) is
     called from the calling thread; return False to cancel (raises dcg.Cancelled). The GIL is
@@ -103,7 +117,7 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
     from . import as_mesh
 
     V, F = as_mesh(V, F)
-    heads, tails = _bones(bones, tails)
+    heads, tails, parents = _bones(bones, tails, parents)
     clean = normalize_options(options)
     if prepared is not None:
         map_face = np.ascontiguousarray(prepared.map_face, dtype=np.int64).reshape(-1)
@@ -111,13 +125,13 @@ def skin_weights(V, F, bones, tails=None, *, prepared=None,
             raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
                              "pass the PreparedMesh of this mesh")
     if prepared is None or not _core.weights_on_working_mesh(len(F), clean):
-        return _core.skin_weights(V, F, heads, tails, clean, progress)
+        return _core.skin_weights(V, F, heads, tails, clean, progress, parents)
     return _core.skin_weights_prepared(
         np.ascontiguousarray(prepared.vertices, dtype=np.float64),
         np.ascontiguousarray(prepared.faces, dtype=np.int64), float(prepared.scale),
         np.asarray(prepared.offset, dtype=np.float64).reshape(3), map_face,
         np.ascontiguousarray(prepared.map_barycentric, dtype=np.float64).reshape(-1, 3),
-        heads, tails, clean, progress)
+        heads, tails, clean, progress, parents)
 
 
 class BoneHeat(_core.BoneHeat):
@@ -146,5 +160,5 @@ class BoneHeat(_core.BoneHeat):
         options: heat and tie_tolerance (any of dcg.OPTIONS is accepted). The GIL is released
         while it works; progress(stage, fraction) returning False raises dcg.Cancelled.
         """
-        heads, tails = _bones(bones, tails)
+        heads, tails, _ = _bones(bones, tails)
         return super().solve(heads, tails, normalize_options(options), progress)

@@ -94,6 +94,13 @@ const std::vector<OptionEntry>& option_table() {
       {number("min_weight", "weights", Kind::Float, 0, 0.99,
               "Weights below this fade out, to 0 at half of it (as Blender's bone heat)"),
        member(&Options::weights, &WeightsOptions::min_weight)},
+      {number("bone_reach", "weights", Kind::Int, 0, 64,
+              "A vertex's other bones lie within this many links of its strongest one (0: any), "
+              "unless they weigh far_weight"),
+       member(&Options::weights, &WeightsOptions::bone_reach)},
+      {number("far_weight", "weights", Kind::Float, 0, 1,
+              "Bones beyond bone_reach keep their weight from this weight up"),
+       member(&Options::weights, &WeightsOptions::far_weight)},
       {number("tie_tolerance", "weights", Kind::Float, 0, 1,
               "Bones within this relative distance of the nearest visible one share its heat"),
        member(&Options::weights, &WeightsOptions::tie_tolerance)},

@@ -101,6 +101,64 @@ void check_bones(const Bones& bones) {
       throw InputError("bone " + std::to_string(b) + " has a non-finite coordinate");
     }
   }
+  if (bones.parents.size() == 0) return;
+  if (bones.parents.size() != bones.count()) {
+    throw InputError("bones need a parent each (-1: none), got " +
+                     std::to_string(bones.parents.size()) + " for " +
+                     std::to_string(bones.count()) + " bones");
+  }
+  for (Eigen::Index b = 0; b < bones.count(); ++b) {
+    const int p = bones.parents[b];
+    if (p < -1 || p >= bones.count() || p == b) {
+      throw InputError("bone " + std::to_string(b) + " has parent " + std::to_string(p) +
+                       ", not -1 or another bone");
+    }
+  }
+}
+
+// Bones::parents, or (empty) each bone's first bone whose tail is at its head.
+Eigen::VectorXi bone_parents(const Bones& bones) {
+  if (bones.parents.size() > 0) return bones.parents;
+  const Eigen::Index nb = bones.count();
+  Points ends(2 * nb, 3);
+  ends << bones.heads, bones.tails;
+  const double tolerance =
+      1e-9 * std::max(1.0, (ends.colwise().maxCoeff() - ends.colwise().minCoeff()).norm());
+  Eigen::VectorXi parents = Eigen::VectorXi::Constant(nb, -1);
+  for (Eigen::Index c = 0; c < nb; ++c) {
+    for (Eigen::Index b = 0; b < nb && parents[c] < 0; ++b)
+      if (b != c && (bones.tails.row(b) - bones.heads.row(c)).norm() <= tolerance)
+        parents[c] = static_cast<int>(b);
+  }
+  return parents;
+}
+
+// near[a * nb + b]: bone b within `reach` links of bone a in the tree of `parents` (every pair
+// when reach is 0). Breadth-first from each bone, `reach` rings deep.
+std::vector<char> bones_within_reach(const Eigen::VectorXi& parents, int reach) {
+  const int nb = static_cast<int>(parents.size());
+  std::vector<char> near(static_cast<std::size_t>(nb) * nb, reach == 0 ? 1 : 0);
+  if (reach == 0) return near;
+  std::vector<std::vector<int>> linked(nb);
+  for (int c = 0; c < nb; ++c) {
+    if (parents[c] < 0) continue;
+    linked[c].push_back(parents[c]);
+    linked[parents[c]].push_back(c);
+  }
+  std::vector<int> ring, next;
+  for (int a = 0; a < nb; ++a) {
+    char* row = near.data() + static_cast<std::size_t>(a) * nb;
+    row[a] = 1;
+    ring.assign(1, a);
+    for (int depth = 0; depth < reach && !ring.empty(); ++depth) {
+      next.clear();
+      for (const int u : ring)
+        for (const int v : linked[u])
+          if (!row[v]) row[v] = 1, next.push_back(v);
+      ring.swap(next);
+    }
+  }
+  return near;
 }
 
 }  // namespace
@@ -118,6 +176,8 @@ void WeightsOptions::validate() const {
   check_option("max_influences", max_influences);
   check_option("heat", heat);
   check_option("min_weight", min_weight);
+  check_option("bone_reach", bone_reach);
+  check_option("far_weight", far_weight);
   check_option("tie_tolerance", tie_tolerance);
 }
 
@@ -496,6 +556,7 @@ SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
   // Interpolate at each input vertex's point of the working mesh; keep the strongest bones.
   start = Clock::now();
   const int keep = std::min(options.max_influences, nb);
+  const std::vector<char> near = bones_within_reach(bone_parents(bones), options.bone_reach);
   Eigen::MatrixXi top_bone = Eigen::MatrixXi::Constant(n_in, keep, -1);
   Eigen::MatrixXd top_value = Eigen::MatrixXd::Zero(n_in, keep);
   std::vector<char> fallback(n_in, 0);
@@ -538,16 +599,19 @@ SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
               top_value(i, 0) = 1.0;
               continue;
             }
-            // The strongest bone always; the others faded out below min_weight (see weights.h).
+            // The strongest bone always; the others faded out below min_weight, and those out
+            // of its reach below far_weight (see weights.h).
             const double m = options.min_weight;
+            const char* in_reach = near.data() + static_cast<std::size_t>(order[0]) * nb;
             double sum = 0;
-            for (int k = 0; k < keep; ++k) {
+            for (int k = 0, slot = 0; k < keep; ++k) {
               double value = row[order[k]];
+              if (k > 0 && !in_reach[order[k]] && value < options.far_weight) continue;
               if (k > 0 && value < m)
                 value = value < 0.5 * m ? 0.0 : (value - 0.5 * m) / (0.5 * m) * m;
               if (!(value > 0)) break;
-              top_bone(i, k) = order[k];
-              top_value(i, k) = value;
+              top_bone(i, slot) = order[k];
+              top_value(i, slot++) = value;
               sum += value;
             }
             top_value.row(i) /= sum;

@@ -368,3 +368,37 @@ def test_skin_weights_fields_are_read_only_views_and_unpack():
     assert rows.dtype == cols.dtype == np.int64 and not values.flags.writeable
     assert set(w.timings) >= {"laplacian", "solve", "total"}
     assert w.dense().shape == (len(V), 2)
+
+
+def test_bone_reach_keeps_a_vertex_to_bones_near_its_strongest_in_the_tree():
+    """bone_reach: a vertex's other bones lie within that many links of its strongest bone in
+    the bone tree (far ones kept from far_weight up); the tree is Bones' parents, given or found
+    from tails at heads. Six short bones in a capsule spread heat over more than two links."""
+    V, F = capsule(sections=12, segments=12, rings=5)
+    z = np.linspace(-1.4, 1.4, 7)
+    heads = np.c_[np.zeros(6), np.zeros(6), z[:-1]]
+    tails = np.c_[np.zeros(6), np.zeros(6), z[1:]]
+    loose = dict(max_influences=6, min_weight=0.01, target_faces=0)
+
+    def farthest_link(W):
+        strongest = W.argmax(1)
+        used = W > 0
+        return max(np.abs(np.nonzero(row)[0] - s).max() for row, s in zip(used, strongest))
+
+    anywhere = skin_weights(V, F, heads, tails, bone_reach=0, **loose).dense()
+    assert farthest_link(anywhere) >= 2  # the rule below has something to drop
+    near = skin_weights(V, F, heads, tails, bone_reach=1, far_weight=1.0, **loose)
+    check_weights(near, len(V), 6, max_influences=6)
+    assert farthest_link(near.dense()) <= 1
+    # Parents found from tails at heads are the chain's own.
+    chain = skin_weights(V, F, heads, tails, parents=[-1, 0, 1, 2, 3, 4], bone_reach=1,
+                         far_weight=1.0, **loose)
+    np.testing.assert_array_equal(chain.dense(), near.dense())
+    # Six roots: no bone is linked to another, so each vertex keeps its strongest alone.
+    alone = skin_weights(V, F, heads, tails, parents=[-1] * 6, bone_reach=1, far_weight=1.0,
+                         **loose)
+    assert (np.diff(np.asarray(alone.rows)) > 0).all()  # one entry a vertex
+    for bad, message in (([-1, 0, 1], "parents must be 6"), ([-1, 0, 1, 2, 3, 9], "parent 9"),
+                         ([-1, 1, 1, 2, 3, 4], "parent 1"), ([-1, 0.5, 1, 2, 3, 4], "parents")):
+        with pytest.raises(ValueError, match=message):
+            skin_weights(V, F, heads, tails, parents=bad, **loose)

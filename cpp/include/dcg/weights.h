@@ -61,6 +61,15 @@ struct WeightsOptions {
   /// m = min_weight, and 0 below m/2 (Blender's bone heat does the same with 0.05), so far
   /// influences vanish without a visible step. The strongest bone of a vertex is always kept.
   double min_weight = 0.05;
+  /// A vertex's other bones lie within this many links of its strongest bone in the bone tree
+  /// (Bones::parents), unless they weigh at least far_weight; 0: no limit. Heat leaks between
+  /// parts that touch or lie close (a coiled snake's turns, a hand at a thigh): on the rigged
+  /// characters, 3 raises the precision against the artists' weights from 82% to 86% (Q_Snake
+  /// 46% -> 91%) and lowers the mean deformation error from 0.76 to 0.67% (1 and 2 lose recall:
+  /// artists blend over three bones of a chain).
+  int bone_reach = 3;
+  /// Bones beyond bone_reach keep their weight from this weight up.
+  double far_weight = 0.1;
   /// Bones within this relative distance of the nearest visible one count as equally near
   /// (p = 1/k), as in Pinocchio: a vertex at a joint lies as near to both bones there.
   double tie_tolerance = 1e-4;
@@ -73,6 +82,9 @@ struct WeightsOptions {
 struct Bones {
   Points heads;  ///< #B by 3 bone heads
   Points tails;  ///< #B by 3 bone tails
+  /// #B parent bone of each bone, -1 at a root; empty: a bone's parent is the first bone whose
+  /// tail is at its head (within 1e-9 of the bones' extent), else none.
+  Eigen::VectorXi parents;
   Eigen::Index count() const { return heads.rows(); }
 };
 
