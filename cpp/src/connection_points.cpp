@@ -135,17 +135,18 @@ ConnectionPoints compute_connection_points(const Points& domain_points, const Fo
   // Points shrink independently: 16 per thread at a time (a point takes up to a few ms: 200
   // steps of 64 rays; with 4, a thread waited behind each chunk's slowest point: 10% of the
   // stage on the torus, knight and elephant), polled between.
-  internal::parallel_chunks(
-      count, internal::per_thread(16), 1, tick.part(0, 0.95), [&](const tbb::blocked_range<int>& r) {
-        for (int i = r.begin(); i != r.end(); ++i) {
-          const ShrinkResult s = shrink(domain_points.row(i).transpose(), field, options);
-          out.shrunk.row(i) = s.p.transpose();
-          out.shrunk_magnitude[i] = s.magnitude;
-          out.shrunk_radii[i] = field.query().distance(s.p);
-          out.steps[i] = s.steps;
-          out.converged[i] = s.converged ? 1 : 0;
-        }
-      });
+  internal::parallel_chunks(count, internal::per_thread(16), 1, tick.part(0, 0.95),
+                            [&](const tbb::blocked_range<int>& r) {
+                              for (int i = r.begin(); i != r.end(); ++i) {
+                                const ShrinkResult s =
+                                    shrink(domain_points.row(i).transpose(), field, options);
+                                out.shrunk.row(i) = s.p.transpose();
+                                out.shrunk_magnitude[i] = s.magnitude;
+                                out.shrunk_radii[i] = field.query().distance(s.p);
+                                out.steps[i] = s.steps;
+                                out.converged[i] = s.converged ? 1 : 0;
+                              }
+                            });
   tick(0.95);
   std::vector<int> survivors;
   out.cluster = merge_greedily(out.shrunk, out.shrunk_magnitude, out.shrunk_radii,
