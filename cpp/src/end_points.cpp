@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -84,8 +85,14 @@ EndPoints find_end_points(const Prongs& prongs, const Balls& balls, const Surfac
       order.emplace_back((balls.centers.row(b).transpose() - peak).squaredNorm(),
                          static_cast<int>(b));
     }
-    std::sort(order.begin(), order.end());
-    for (const auto& [d2, b] : order) {
+    // Nearest first, taken off a heap one at a time: the first few balls usually see the peak,
+    // so sorting all of them (a stage-1 ball set has thousands) cost most of the stage.
+    const auto farther = std::greater<std::pair<double, int>>();
+    std::make_heap(order.begin(), order.end(), farther);
+    while (!order.empty()) {
+      std::pop_heap(order.begin(), order.end(), farther);
+      const auto [d2, b] = order.back();
+      order.pop_back();
       // Sees the peak: the first surface hit from the center toward the peak is the peak itself
       // (up to a tolerance for the peak's own triangles and float rounding).
       const Eigen::Vector3d c = balls.centers.row(b).transpose();
