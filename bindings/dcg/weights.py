@@ -69,7 +69,7 @@ def _bones(bones, tails, parents=None):
             tails = _points("tails", [np.asarray(b.tail, dtype=float) for b in items])
             if parents is None and all(hasattr(b, "parent") and hasattr(b, "name") for b in items):
                 index = {b.name: i for i, b in enumerate(items)}
-                parents = [index.get(b.parent, -1) if b.parent is not None else -1 for b in items]
+                parents = [index.get(b.parent, -1) for b in items]  # None or unknown: a root
         else:
             raise ValueError("bones must be a Skeleton, a non-empty list of bones with .head "
                              "and .tail, or heads with tails")

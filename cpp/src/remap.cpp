@@ -171,15 +171,18 @@ std::vector<Eigen::Vector3d> route(const Eigen::Vector3d& a, const Eigen::Vector
   // then taken in order: each hop's test depends on u alone, so the order of the searches is
   // the one a ray per hop gives.
   std::vector<int> hops;
-  std::vector<double> from, to;
+  std::vector<double> ways, from, to;  // ways: dist[u] plus the hop's length
   std::vector<unsigned char> blocked;
   auto relax = [&](int u, const auto& candidates) {
     hops.clear();
+    ways.clear();
     from.clear();
     to.clear();
     for (const int v : candidates) {
-      if (done[v] || dist[u] + (pts[u] - pts[v]).norm() >= dist[v]) continue;
+      const double nd = dist[u] + (pts[u] - pts[v]).norm();
+      if (done[v] || nd >= dist[v]) continue;
       hops.push_back(v);
+      ways.push_back(nd);
       from.insert(from.end(), pts[u].data(), pts[u].data() + 3);
       to.insert(to.end(), pts[v].data(), pts[v].data() + 3);
     }
@@ -188,8 +191,8 @@ std::vector<Eigen::Vector3d> route(const Eigen::Vector3d& a, const Eigen::Vector
                            blocked.data());
     for (std::size_t h = 0; h < hops.size(); ++h) {
       const int v = hops[h];
-      const double nd = dist[u] + (pts[u] - pts[v]).norm();
-      if (blocked[h] || nd >= dist[v]) continue;
+      const double nd = ways[h];
+      if (blocked[h] || nd >= dist[v]) continue;  // >=: v listed twice (b among the nearest)
       dist[v] = nd;
       prev[v] = u;
       heap.push({nd + to_b(v), v});
