@@ -40,11 +40,10 @@
 // - Remeshing: skipped when the mesh already has between 1/2.5 and 2.5 times target_faces and
 //   its edge lengths are uniform (coefficient of variation below 0.5): such a mesh is as good a
 //   geodesic domain as a remeshed one, and remeshing costs more than all of stages 1-3.
-// - Huge inputs (more than max(8 x target_faces, 150,000) faces) are first reduced to
-//   4 x target_faces by fast_reduce() (decimate.h), an O(n log n) pass-wise edge collapse without a
-//   priority queue: CGAL's quality edge collapse in remesh_uniform() costs about 30 us per
-//   collapse (23 s of the 35 s on a 1.4M-face mesh) and then only does the last factor of 4.
-//   Meshes under 150,000 faces (every public test mesh) never take this path.
+// - Before the remeshing, fast_reduce() (decimate.h), an O(n log n) pass-wise edge collapse
+//   without a priority queue, takes a mesh of more than 3 x target_faces to 1.5 x (CGAL's quality
+//   edge collapse in remesh_uniform() costs about 30 us per collapse: 23 s of the 35 s on a
+//   1.4M-face mesh) and an uneven one above target_faces to 0.6 x (fast_reduce_goal below).
 // - Cancellation: stage 0 polls the progress callback at most every 10 ms (between steps, in
 //   the loops over the input, and from inside CGAL's wrap, collapse and remeshing), so that a
 //   cancel request stops it quickly even on millions of faces.
@@ -456,22 +455,39 @@ void wrap_flat_folds(const PrepareOptions& options, ThrottledProgress& poll, Pre
   wrap(out.working, 0.01, poll, out);
 }
 
+// The face count fast_reduce takes a mesh of `nf` faces to before remesh_uniform remeshes it to
+// `target`, or 0 for none.
+// - More than 3 x the target: 1.5 x (CGAL's quality collapse in remesh_uniform then has nothing
+//   left to do): that collapse cost 1.3 s of the horse's (97k faces) 1.8 s stage 0, fast_reduce
+//   0.1 s, with the same skeleton's ends, joints and stability, the isotropic remeshing after it
+//   evening the triangles out either way.
+// - Above the target with uneven edges (variation kMaxKeptVariation or more): 0.6 x. The
+//   isotropic remeshing splits every edge longer than 4/3 L in two before it collapses those
+//   under 4/5 L, so an uneven mesh is first refined where it is coarse, and the halves of many
+//   of those splits, with the fine parts, are then collapsed again: biped-30k's union (23k faces,
+//   variation 1.7) took 41,555 splits and 40,403 collapses in the first of 3 iterations (300 of
+//   its 440 ms). The shortest edges collapsed first, it takes 22,682 and 16,129 (remeshing 245
+//   ms), quadruped-100k's stage 0 1.61 -> 1.27 s, with the same ends and joints (0.4 x and 0.8 x
+//   saved less). Not below the target: Mannequiny (17k faces, variation 1.05) gained nothing.
+int fast_reduce_goal(double nf, const Mesh& mesh, int target) {
+  const int large_goal = static_cast<int>(1.5 * std::max(target, internal::kMinRemeshFaces));
+  if (nf > target && edge_length_variation(mesh.V, mesh.F) >= kMaxKeptVariation) {
+    return std::max(static_cast<int>(0.6 * target), internal::kMinRemeshFaces);
+  }
+  return nf > 2.0 * large_goal ? large_goal : 0;
+}
+
 // Remeshes out.working to a uniform mesh of about target_faces triangles unless remesh_target
-// keeps it. One of more than 3 x the target is first reduced by fast_reduce to 1.5 x (CGAL's
-// quality collapse in remesh_uniform then has nothing left to do): that collapse cost 1.3 s of
-// the horse's (97k faces) 1.8 s stage 0, fast_reduce 0.1 s, with the same skeleton's ends,
-// joints and stability, the isotropic remeshing after it evening the triangles out either way.
+// keeps it, reduced first by fast_reduce as fast_reduce_goal says.
 void remesh_to_target(const PrepareOptions& options, ThrottledProgress& poll, PreparedMesh& out) {
-  // The size before any fold wrap decides on the fast reduction.
+  // The mesh before any fold wrap decides on the fast reduction.
   const double nf = static_cast<double>(out.working.F.rows());
   const int target = remesh_target(out.working, options);
   if (target == 0) return;
+  const int goal = fast_reduce_goal(nf, out.working, target);
   if (out.wrap_alpha == 0) wrap_flat_folds(options, poll, out);  // not a wrap (maybe a union)
   if (out.repaired && out.wrap_alpha == 0) out.united = out.working;
-  const int goal = static_cast<int>(1.5 * std::max(target, internal::kMinRemeshFaces));
-  if (nf > 2.0 * goal) {
-    out.working = internal::fast_reduce(out.working, goal, poll.part(0.3, 0.5));
-  }
+  if (goal > 0) out.working = internal::fast_reduce(out.working, goal, poll.part(0.3, 0.5));
   out.working = internal::remesh_uniform(out.working, target, poll.part(0.5, 0.85));
   out.remeshed = true;
 }
