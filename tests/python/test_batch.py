@@ -248,6 +248,17 @@ def test_find_models_skips_hidden_files_and_the_output_inside(tmp_path):
                                                                                "scene.fbx"]
 
 
+def test_jobs_are_submitted_largest_input_first(tmp_path):
+    # The longest models start first, so that no worker idles at the end behind a big one.
+    sizes = {"b.off": 300, "a.off": 100, "c.off": 300, "d.off": 2000}
+    for name, size in sizes.items():
+        (tmp_path / name).write_bytes(b"x" * size)
+    jobs = [batch.Job(name, str(tmp_path / name), {}) for name in sorted(sizes)]
+    jobs.append(batch.Job("gone.off", str(tmp_path / "gone.off"), {}))  # vanished: last
+    assert [j.path for j in batch.largest_first(jobs)] == ["d.off", "b.off", "c.off", "a.off",
+                                                          "gone.off"]
+
+
 def test_bad_arguments_exit_2_with_the_reason(tmp_path):
     result = run_cli(tmp_path / "absent", tmp_path / "out")
     assert result.returncode == 2 and "does not exist" in result.stderr
