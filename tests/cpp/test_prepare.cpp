@@ -611,6 +611,13 @@ TEST_P(OpenMeshFile, RepairAutoClosesItAndRepairNoneNamesTheProblem) {
   if (GetParam() == "wolf-open.obj") {
     EXPECT_TRUE(contains(message, "128 border edges")) << message;
     EXPECT_TRUE(contains(message, "3 components")) << message;
+    // Its 4 holes are small (the largest 7% of the diagonal) and filled, its parts cross (no
+    // union): the filled mesh is wrapped at 2% of the diagonal, not at 0.6 x the largest hole
+    // (4.3%), whose wrap webbed the legs together (4 ends of 6, 77% of the skeleton inside).
+    const dcg::PreparedMesh kept = dcg::prepare_mesh(m.V, m.F, dcg::PrepareOptions());
+    EXPECT_EQ(kept.report.filled_holes, 4);
+    EXPECT_DOUBLE_EQ(kept.wrap_alpha, 0.02);
+    EXPECT_TRUE(test::is_closed_oriented_manifold(kept.working));
   }
   dcg::PrepareOptions up;  // the proxy remeshed up to target_faces
   up.upsample = true;
