@@ -10,7 +10,11 @@ bones' heads and tails) against the artist's joints and parent-child bones: CD-J
 CD-B2B (dcg.metrics.skeleton_metrics) in % of the mesh's longest bounding-box side, how far
 our paired bones (`.L` / `.R`) are from mirroring each other across the plan's mirror plane
 (dcg.metrics.mirror_error, same unit; dcg.bones.plan_plane), the bone counts and the engine's
-method. Writes the Markdown table to --out (and prints it) and one
+method. A second set of CD columns ("inside") leaves out the artist's joints outside the mesh
+(winding number, scripts/mesh_parts.py: a root on the floor, a hub above the body, IK targets),
+each kept joint's parent its nearest kept ancestor (dcg.metrics.kept_joints): how much of the
+distance is joints no skeleton inside the shape can reach (a diagnostic; issue 17's targets are
+on the plain columns). Writes the Markdown table to --out (and prints it) and one
 JSON line per character to the same path with .jsonl.
 """
 import argparse
@@ -18,6 +22,7 @@ import sys
 import time
 from pathlib import Path
 
+import mesh_parts
 import quality_tables
 
 #: Published figures (MagicArticulate and Puppeteer papers; Pinocchio as they report it).
@@ -30,8 +35,11 @@ REFERENCES = [
      "cd_b2b": 3.67},
 ]
 METRICS = ["cd_j2j", "cd_j2b", "cd_b2b"]
+INSIDE_METRICS = ["inside_" + m for m in METRICS]
 COLUMNS = [("character", "name", ""), ("CD-J2J %", "cd_j2j", ".3f"),
            ("CD-J2B %", "cd_j2b", ".3f"), ("CD-B2B %", "cd_b2b", ".3f"),
+           ("inside CD-J2J %", "inside_cd_j2j", ".3f"), ("inside CD-J2B %", "inside_cd_j2b", ".3f"),
+           ("inside CD-B2B %", "inside_cd_b2b", ".3f"), ("their joints outside", "outside", "d"),
            ("mirror mean %", "mirror_mean", ".3f"), ("mirror max %", "mirror_max", ".3f"),
            ("pairs", "pairs", "d"), ("our bones", "bones", "d"),
            ("their bones", "their_bones", "d"),
@@ -53,6 +61,11 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
            "their_bones": len(rig.joints), "method": skeleton.method, "seconds": seconds}
     row.update(metrics.skeleton_metrics(V, plan["heads"], plan["tails"], rig.joints,
                                         rig.parents))
+    inside = mesh_parts.inside_any_part(rig.joints, V, F)
+    joints, parents = metrics.kept_joints(rig.joints, rig.parents, inside)
+    kept = metrics.skeleton_metrics(V, plan["heads"], plan["tails"], joints, parents)
+    row.update({"inside_" + key: value for key, value in kept.items()})
+    row["outside"] = int((~inside).sum())
     plane = bones.plan_plane(skeleton)
     row.update(pairs=0, mirror_mean=None, mirror_max=None)
     if plane is not None:
@@ -79,7 +92,7 @@ def main():
     for name, obj, rig_path in characters:
         rows.append(measure(name, obj, rig_path, args.bone_detail))
         print(f"bench_rig_quality: {rows[-1]}", file=sys.stderr, flush=True)
-    mean = quality_tables.mean_row(rows, METRICS + ["mirror_mean", "mirror_max", "pairs", "bones",
+    mean = quality_tables.mean_row(rows, METRICS + INSIDE_METRICS + ["outside", "mirror_mean", "mirror_max", "pairs", "bones",
                                                     "their_bones", "seconds"])
     mean["name"] = f"**mean of {len(rows)}**"
     lines = quality_tables.header("Skeleton quality: our bones against the artists' skeletons")
@@ -92,7 +105,12 @@ def main():
               "plan's mirror plane (`dcg.bones.plan_plane`) to its `.R` partner's, mean and "
               "largest, same unit ('-' without a mirror plane; the mean row over the "
               "characters that have one); pairs: the pairs of bones. "
-              "'their bones': one per joint (the weights protocol).", ""]
+              "'their bones': one per joint (the weights protocol). The 'inside' CD columns "
+              "leave out the artist's joints outside the mesh ('their joints outside': a root "
+              "on the floor, a hub above the body, IK targets; winding number), each kept "
+              "joint's parent its nearest kept ancestor: a diagnostic of how much of the "
+              "distance no skeleton inside the shape can remove (the targets are on the first "
+              "three columns).", ""]
     lines += quality_tables.table(COLUMNS, rows + [mean])
     lines += ["", "Reference rows (other sets: MagicArticulate's Articulation-XL / ModelsResource "
               "figures as the papers give them; not measured here):", ""]

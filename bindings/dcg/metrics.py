@@ -304,6 +304,28 @@ def skeleton_metrics(V, heads, tails, joints, parents, step=0.005) -> Dict[str, 
             "cd_b2b": 100.0 * chamfer_b2b(ours, theirs, step * side) / side}
 
 
+def kept_joints(joints, parents, keep) -> Tuple[np.ndarray, np.ndarray]:
+    """The skeleton of the joints where `keep` (#J booleans) is true: (joints #K x 3, parents
+    #K), each kept joint's parent its nearest kept ancestor (-1 when none). What the rig-quality
+    bench uses to leave out the artist's joints that lie outside the mesh (a root on the floor,
+    a hub above the body, IK targets), whose bones no skeleton inside the shape can follow."""
+    joints = np.asarray(joints, dtype=float).reshape(-1, 3)
+    parents = np.asarray(parents, dtype=np.int64)
+    keep = np.asarray(keep, dtype=bool)
+    if keep.shape != parents.shape or len(joints) != len(parents):
+        raise ValueError(f"kept_joints: {len(joints)} joints, {len(parents)} parents and "
+                         f"{keep.size} flags")
+    index = np.full(len(keep), -1, dtype=np.int64)
+    index[keep] = np.arange(int(keep.sum()))
+    kept_parents = []
+    for j in np.flatnonzero(keep):
+        p, steps = int(parents[j]), 0
+        while p >= 0 and not keep[p] and steps <= len(parents):  # steps: a cycle cannot hang it
+            p, steps = int(parents[p]), steps + 1
+        kept_parents.append(int(index[p]) if p >= 0 and keep[p] else -1)
+    return joints[keep], np.array(kept_parents, dtype=np.int64)
+
+
 # --- symmetry ----------------------------------------------------------------------------------
 
 def mirror_pairs(names) -> List[Tuple[int, int]]:

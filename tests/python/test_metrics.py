@@ -183,6 +183,19 @@ def test_unique_points_drops_shared_heads_and_tails():
     np.testing.assert_array_equal(metrics.unique_points(np.concatenate([heads, tails])), CHAIN)
 
 
+def test_kept_joints_reparents_to_the_nearest_kept_ancestor():
+    # 0 -> 1 -> 2 -> 3 and 1 -> 4; drop 0 (a floor root) and 2 (a joint off the body).
+    joints = np.arange(15, dtype=float).reshape(5, 3)
+    parents = np.array([-1, 0, 1, 2, 1])
+    kept, kept_parents = metrics.kept_joints(joints, parents, [False, True, False, True, True])
+    np.testing.assert_array_equal(kept, joints[[1, 3, 4]])
+    np.testing.assert_array_equal(kept_parents, [-1, 0, 0])  # 3's parent is 1, now index 0
+    kept, kept_parents = metrics.kept_joints(joints, parents, [True] * 5)
+    np.testing.assert_array_equal(kept_parents, parents)
+    with pytest.raises(ValueError):
+        metrics.kept_joints(joints, parents, [True, False])
+
+
 def test_the_shared_rigs_read_with_weights_summing_to_one(meshes_dir):
     characters = metrics.rigged_characters(meshes_dir / "rigged")
     if not characters:
