@@ -322,7 +322,7 @@ def kept_joints(joints, parents, keep) -> Tuple[np.ndarray, np.ndarray]:
         p, steps = int(parents[j]), 0
         while p >= 0 and not keep[p] and steps <= len(parents):  # steps: a cycle cannot hang it
             p, steps = int(parents[p]), steps + 1
-        kept_parents.append(int(index[p]) if p >= 0 and keep[p] else -1)
+        kept_parents.append(int(index[p]) if p >= 0 else -1)  # index: -1 where dropped
     return joints[keep], np.array(kept_parents, dtype=np.int64)
 
 
