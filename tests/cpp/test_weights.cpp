@@ -196,6 +196,32 @@ TEST(WeightsVisibility, AClosedPartAroundNoBoneIsStillWeighted) {
   }
 }
 
+TEST(WeightsVisibility, OnOneClosedPartABoneIsSeenThroughFacesCrossedFromBehind) {
+  // Bone 1 rises out of the sphere's top (head inside at (0.5, 0, 0)). Vertex p near the top on
+  // the other side is nearest to the part of bone 1 outside the sphere: the segment between them
+  // crosses the sphere once, leaving it (a face seen from behind, as Blender's back-face
+  // culling ignores), so p sees bone 1. Bone 0 lies low inside, farther from p.
+  const Mesh a = sphere(Eigen::RowVector3d(0, 0, 0), 1.0);
+  const Eigen::Vector3d out(-0.3, 0, 0.95);
+  Eigen::Index p = 0;
+  (a.V * out.normalized()).maxCoeff(&p);
+  const std::pair<Eigen::Vector3d, Eigen::Vector3d> low = {{0, 0, -0.8}, {0, 0, -0.6}};
+  const Eigen::Vector3d inside(0.5, 0, 0), outside(0.5, 0, 2);
+  auto nearest_of_p = [&](const Mesh& m, const Bones& bones) {
+    dcg::BoneHeat heat(m);
+    Eigen::VectorXi nearest;
+    Eigen::VectorXd distance;
+    heat.nearest_visible_bones(bones, nearest, distance);
+    return nearest[p];
+  };
+  EXPECT_EQ(nearest_of_p(a, bones_from({low, {inside, outside}})), 1);
+  // A head outside the shape marks a control bone (a root on the floor): not seen through.
+  EXPECT_EQ(nearest_of_p(a, bones_from({low, {outside, inside}})), 0);
+  // With a second part, every face hides (the parts would show each other's bones).
+  const Mesh two = merged(a, sphere(Eigen::RowVector3d(5, 0, 0), 1.0));
+  EXPECT_EQ(nearest_of_p(two, bones_from({low, {inside, outside}})), 0);
+}
+
 // --- bone heat ----------------------------------------------------------------------------------
 
 TEST(WeightsHeat, OneBoneWeighsEverythingOne) {
