@@ -90,13 +90,16 @@ Eigen::VectorXi vertex_components(int nv, const Faces& F, int& count) {
   return label;
 }
 
-// True when (V, F) is one closed surface whose faces are oriented consistently and outwards:
-// every directed edge once and its reverse once, a positive enclosed volume. Only such a surface
-// tells inside from outside by ray parity and faces seen from behind (BoneHeat::visible).
-bool one_closed_outward_part(const Vertices& V, const Faces& F, int component_count) {
-  if (component_count != 1) return false;
-  // Closed and consistent: the sorted directed edges, without repeats, equal the sorted reversed
-  // ones (two parallel sorts: 3-4 ms on 20k faces, half what a binary search per edge took).
+// Per part (component of `component`, `count` parts): true when it is a closed surface whose
+// faces are oriented consistently and outwards: each directed edge as often as its reverse (an
+// edge of four faces may alternate), a positive enclosed volume. Only such a part tells inside
+// from outside by ray parity and faces seen from behind (BoneHeat::visible).
+std::vector<char> closed_outward_parts(const Vertices& V, const Faces& F,
+                                       const Eigen::VectorXi& component, int count) {
+  std::vector<char> closed(static_cast<std::size_t>(count), 1);
+  // Sorted directed edges against sorted reversed ones (two parallel sorts: 3-4 ms on 20k
+  // faces, half what a binary search per edge took): a key in one but not the other is an edge
+  // of a part that is open or inconsistently oriented.
   std::vector<std::int64_t> directed, reversed;
   directed.reserve(static_cast<std::size_t>(F.rows()) * 3);
   reversed.reserve(static_cast<std::size_t>(F.rows()) * 3);
@@ -108,14 +111,24 @@ bool one_closed_outward_part(const Vertices& V, const Faces& F, int component_co
     }
   tbb::parallel_sort(directed.begin(), directed.end());
   tbb::parallel_sort(reversed.begin(), reversed.end());
-  if (std::adjacent_find(directed.begin(), directed.end()) != directed.end()) return false;
-  if (directed != reversed) return false;
-  double volume = 0;  // six times the signed volume (divergence theorem)
+  auto open_at = [&](std::int64_t key) { closed[component[static_cast<int>(key / n)]] = 0; };
+  for (std::size_t i = 0, j = 0; i < directed.size() || j < reversed.size();) {
+    if (j == reversed.size() || (i < directed.size() && directed[i] < reversed[j])) {
+      open_at(directed[i++]);
+    } else if (i == directed.size() || reversed[j] < directed[i]) {
+      open_at(reversed[j++]);
+    } else {
+      ++i, ++j;
+    }
+  }
+  std::vector<double> volume(static_cast<std::size_t>(count), 0.0);  // six times the signed volume
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    volume += a.dot(b.cross(c));
+    volume[component[F(f, 0)]] += a.dot(b.cross(c));
   }
-  return volume > 0;
+  for (int c = 0; c < count; ++c)
+    if (!(volume[c] > 0)) closed[c] = 0;
+  return closed;
 }
 
 void check_bones(const Bones& bones) {
@@ -254,7 +267,7 @@ struct BoneHeat::Impl {
   Vertices normal;                // unit vertex normals (sums of unit face normals)
   Eigen::VectorXi component;      // connected component of each vertex
   int component_count = 0;
-  bool one_closed_part = false;  // one part, closed, consistently oriented, outwards
+  std::vector<char> closed_part;  // per part: closed, consistently oriented, outwards
   Eigen::RowVector3d center = Eigen::RowVector3d::Zero();  // subtracted before Embree's floats
   double mean_edge = 0;
   RTCScene scene = nullptr;
@@ -265,8 +278,9 @@ struct BoneHeat::Impl {
 
   // True when nothing hides point q from surface vertex v: no face crosses the segment between
   // them (the first and last `margin` of it are not tested: v lies on its own faces) or, with
-  // `through_back_faces`, only faces the segment crosses from behind, leaving the shape (Blender's
-  // back-face culling: from a hand's far side, the end of a hand bone that pokes out of it).
+  // `through_back_faces`, only faces of v's own part that the segment crosses from behind,
+  // leaving the part (Blender's back-face culling: from a hand's far side, the end of a hand
+  // bone that pokes out of it).
   bool visible(int v, const Eigen::Vector3d& q, double margin, bool through_back_faces) const {
     const Eigen::Vector3d o = V.row(v).transpose();
     Eigen::Vector3d d = q - o;
@@ -281,50 +295,67 @@ struct BoneHeat::Impl {
     for (int crossed = 0; crossed < kMaxBackFaces; ++crossed) {
       const int f = first_hit(origin, d, tnear, length - margin, t);
       if (f < 0) return true;
-      if (face_normal(f).dot(d) < 0) return false;  // entering the shape: hidden
-      tnear = t + kStep * mean_edge;                // past the face (Embree works in floats)
+      if (face_normal(f).dot(d) < 0) return false;           // entering the shape: hidden
+      if (component[F(f, 0)] != component[v]) return false;  // another part: hidden
+      tnear = t + kStep * mean_edge;  // past the face (Embree works in floats)
     }
     return false;
   }
 
-  // Whether a vertex may see bone b through back faces (see visible): only on a mesh of one
-  // closed, outward-oriented part, and only for a bone whose head lies inside it. A head outside
-  // the shape marks a control bone (a root on the floor, a hub above the pelvis): seen through
-  // the body, it takes weight from the feet (a dragon's). On the rigged characters of several
-  // parts (heads, jaws and legs modelled as shells pushed into each other), seeing through back
-  // faces deforms worse, even when only the vertex's own part may be seen through and the other
-  // parts always hide (Q_Snake 0.53 -> 3.19%, Q_Frog 2.33 -> 2.58%); why is not established.
-  // Measured on the rigged characters against their artists' weights (make bench,
-  // weights-quality.md): mean deformation error 0.6726 -> 0.6712%, closer than Blender's bone
-  // heat on 8 of the 12 it weights whole instead of 6 (Q_Knight's and Q_Zombie's feet and hands,
-  // CesiumMan's hands: their leaf bones poke out of the limbs). Blender's culling for every bone
-  // on every mesh measured 0.975 against 0.758 without it, before bone_reach.
-  std::vector<char> see_through_back_faces(const Bones& bones) const {
-    std::vector<char> through(static_cast<std::size_t>(bones.count()), 0);
-    if (!one_closed_part) return through;
+  // For each bone, the parts whose vertices may see it through their own back faces (see
+  // visible): the closed, outward-oriented parts that hold its head. A head outside the shape
+  // marks a control bone (a root on the floor, a hub above the pelvis): seen through the body, it
+  // takes weight from the feet (a dragon's). A head in another part (a snake's jaw, a frog's head
+  // shell) is not seen through this one: measured, letting each part see through its own back
+  // faces every bone whose head is inside the shape (parity over all parts) deforms Q_Snake
+  // 0.53 -> 3.19% and Q_Frog 2.33 -> 2.58%. Measured on the
+  // rigged characters against their artists' weights (make bench, weights-quality.md): mean
+  // deformation error 0.6726 -> 0.6668%, closer than Blender's bone heat on 8 of the 12 it
+  // weights whole instead of 6 (Q_Knight's and Q_Zombie's feet and hands, CesiumMan's hands:
+  // their leaf bones poke out of the limbs; Q_Wasp 1.03 -> 0.97%). Blender's culling for every
+  // bone on every mesh measured 0.975 against 0.758 without it, before bone_reach.
+  std::vector<std::vector<int>> head_parts_of(const Bones& bones) const {
+    std::vector<std::vector<int>> parts(static_cast<std::size_t>(bones.count()));
+    if (std::find(closed_part.begin(), closed_part.end(), 1) == closed_part.end()) return parts;
     for (Eigen::Index b = 0; b < bones.count(); ++b)
-      through[b] = inside(bones.heads.row(b).transpose()) ? 1 : 0;
-    return through;
+      parts[b] = closed_parts_around(bones.heads.row(b).transpose());
+    return parts;
   }
 
-  // Ray parity of p, the majority of three rays (one grazing an edge cannot decide alone).
-  bool inside(const Eigen::Vector3d& p) const {
+  // The closed parts that hold p, by ray parity on each part's own faces: the majority of three
+  // rays (one grazing an edge cannot decide alone). Sorted.
+  std::vector<int> closed_parts_around(const Eigen::Vector3d& p) const {
     static const Eigen::Vector3d directions[3] = {Eigen::Vector3d(0.2673, 0.5345, 0.8018),
                                                   Eigen::Vector3d(-0.6247, 0.7288, -0.2811),
                                                   Eigen::Vector3d(0.8165, -0.4082, 0.4082)};
     const Eigen::Vector3d origin = p - center.transpose();
-    int votes = 0;
+    std::vector<int> votes;  // a part once for each ray that crosses it an odd number of times
     for (const Eigen::Vector3d& d : directions) {
-      int crossings = 0;
+      std::vector<int> crossed;
       double tnear = 0, t = 0;
-      while (crossings < kMaxCrossings &&
-             first_hit(origin, d, tnear, std::numeric_limits<double>::infinity(), t) >= 0) {
-        ++crossings;
+      for (int f;
+           static_cast<int>(crossed.size()) < kMaxCrossings &&
+           (f = first_hit(origin, d, tnear, std::numeric_limits<double>::infinity(), t)) >= 0;) {
+        crossed.push_back(component[F(f, 0)]);
         tnear = t + kStep * mean_edge;
       }
-      votes += crossings % 2;
+      std::sort(crossed.begin(), crossed.end());
+      for (std::size_t i = 0; i < crossed.size();) {
+        std::size_t j = i;
+        while (j < crossed.size() && crossed[j] == crossed[i]) ++j;
+        if ((j - i) % 2 && closed_part[crossed[i]]) votes.push_back(crossed[i]);
+        i = j;
+      }
     }
-    return votes >= 2;
+    std::sort(votes.begin(), votes.end());
+    std::vector<int> out;
+    for (std::size_t i = 0; i < votes.size();) {
+      std::size_t j = i;
+      while (j < votes.size() && votes[j] == votes[i]) ++j;
+      if (j - i >= 2) out.push_back(votes[i]);
+      i = j;
+    }
+    return out;
   }
 
   // The first face on the ray origin + t d, t in [tnear, tfar] (origin relative to `center`),
@@ -355,7 +386,8 @@ struct BoneHeat::Impl {
     const double margin = 1e-2 * m.mean_edge;
     const bool blind = rule == SourceRule::Nearest;
     const bool strict = rule == SourceRule::NearestIfVisible;
-    const std::vector<char> through = blind ? std::vector<char>() : see_through_back_faces(bones);
+    const std::vector<std::vector<int>> head_parts =
+        blind ? std::vector<std::vector<int>>() : head_parts_of(bones);
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, vertices.size(), 256),
         [&](const tbb::blocked_range<std::size_t>& range) {
@@ -383,7 +415,9 @@ struct BoneHeat::Impl {
               const auto [d, b] = *(end - 1);
               if (std::isfinite(s.distance) && d > s.distance * (1 + tie_tolerance) + 1e-15) break;
               if (strict && !std::isfinite(s.distance)) s.distance = d;  // the nearest, seen or not
-              if (blind || m.visible(v, closest[b], margin, through[b])) {
+              if (blind || m.visible(v, closest[b], margin,
+                                     std::binary_search(head_parts[b].begin(), head_parts[b].end(),
+                                                        m.component[v]))) {
                 if (s.tied.empty()) s.distance = d;
                 s.tied.push_back(b);
               }
@@ -456,7 +490,7 @@ BoneHeat::BoneHeat(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
   for (int v = 0; v < nv; ++v) m.area[v] = std::max(m.area[v], floor_area);
 
   m.component = vertex_components(nv, m.F, m.component_count);
-  m.one_closed_part = one_closed_outward_part(m.V, m.F, m.component_count);
+  m.closed_part = closed_outward_parts(m.V, m.F, m.component, m.component_count);
 
   // The Embree scene.
   m.center = 0.5 * (m.V.colwise().minCoeff() + m.V.colwise().maxCoeff());

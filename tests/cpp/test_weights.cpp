@@ -196,7 +196,7 @@ TEST(WeightsVisibility, AClosedPartAroundNoBoneIsStillWeighted) {
   }
 }
 
-TEST(WeightsVisibility, OnOneClosedPartABoneIsSeenThroughFacesCrossedFromBehind) {
+TEST(WeightsVisibility, AClosedPartShowsTheBonesItHoldsThroughItsBackFaces) {
   // Bone 1 rises out of the sphere's top (head inside at (0.5, 0, 0)). Vertex p near the top on
   // the other side is nearest to the part of bone 1 outside the sphere: the segment between them
   // crosses the sphere once, leaving it (a face seen from behind, as Blender's back-face
@@ -214,12 +214,21 @@ TEST(WeightsVisibility, OnOneClosedPartABoneIsSeenThroughFacesCrossedFromBehind)
     heat.nearest_visible_bones(bones, nearest, distance);
     return nearest[p];
   };
-  EXPECT_EQ(nearest_of_p(a, bones_from({low, {inside, outside}})), 1);
+  const Bones rising = bones_from({low, {inside, outside}});
+  EXPECT_EQ(nearest_of_p(a, rising), 1);
+  // A part elsewhere changes nothing.
+  EXPECT_EQ(nearest_of_p(merged(a, sphere(Eigen::RowVector3d(5, 0, 0), 1.0)), rising), 1);
   // A head outside the shape marks a control bone (a root on the floor): not seen through.
   EXPECT_EQ(nearest_of_p(a, bones_from({low, {outside, inside}})), 0);
-  // With a second part, every face hides (the parts would show each other's bones).
-  const Mesh two = merged(a, sphere(Eigen::RowVector3d(5, 0, 0), 1.0));
-  EXPECT_EQ(nearest_of_p(two, bones_from({low, {inside, outside}})), 0);
+  // Nor a bone whose head is in another part (a small sphere around it, above a).
+  const Eigen::Vector3d above(0.5, 0, 1.5);
+  EXPECT_EQ(
+      nearest_of_p(merged(a, sphere(above.transpose(), 0.1)), bones_from({low, {above, inside}})),
+      0);
+  // Another part hides even from behind: with p inside a small sphere pushed into a (shells
+  // pushed into each other), every segment from p leaves that sphere through a face seen from
+  // behind, and p sees no bone (-1; it is then heated by diffusion).
+  EXPECT_EQ(nearest_of_p(merged(a, sphere(a.V.row(p), 0.1)), rising), -1);
 }
 
 // --- bone heat ----------------------------------------------------------------------------------

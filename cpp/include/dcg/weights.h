@@ -18,12 +18,13 @@
 // p_i  #W 1/k where bone i is one of those k nearest bones, else 0.
 //
 // Which bones heat a vertex, per connected part of the mesh, strictest rule first: the nearest
-// bones if *visible* (the segment from the vertex to q crosses no surface; on a mesh of one
-// closed part, for a bone whose head is inside it, no surface but faces crossed from behind, as
-// Blender's back-face culling: the end of a leaf bone that pokes out of a hand; a hidden nearest
-// bone leaves the vertex unheated, as in Blender); for a part where that heats no vertex, the
-// nearest visible bones; for a part that sees no bone at all, the nearest bones through the volume
-// (plain distance), so that the system is never singular (Blender fails there).
+// bones if *visible* (the segment from the vertex to q crosses no surface; where the vertex's
+// part is closed and holds the bone's head, no surface but that part's faces crossed from
+// behind, as Blender's back-face culling: the end of a leaf bone that pokes out of a hand; a
+// hidden nearest bone leaves the vertex unheated, as in Blender); for a part where that heats no
+// vertex, the nearest visible bones; for a part that sees no bone at all, the nearest bones
+// through the volume (plain distance), so that the system is never singular (Blender fails
+// there).
 // (M^-1 L is the paper's area-normalized Laplacian; multiplying by M makes the matrix
 // symmetric positive definite, so one sparse Cholesky factorization (LDL^T) serves every bone.)
 // An unheated vertex gets whatever diffuses to it along the surface from its neighbours. Since
