@@ -245,9 +245,17 @@ void expect_cancel_latency(const std::string& name, double max_seconds = 0.5) {
       // reference run: a cancel armed at a later call then never comes. Not an engine fault;
       // the run finished whole, so the next probes need a fresh Extractor.
       const bool fewer_calls = probe.delay < 0 && probe.seen[probe.stage] < probe.call;
+      // Likewise a run faster than the reference (a loaded machine made the reference slow)
+      // can end before a cancel armed by time: fine as long as it ended within the latency
+      // bound of the moment the cancel was due.
+      const double late = seconds_between(probe.armed_at, Clock::now()) - probe.delay;
+      const bool ended_in_time = probe.delay >= 0 && !probe.requested && late < max_seconds;
       if (fewer_calls) {
         std::printf("[ %s: %s made %d calls this time, no cancel ]\n", name.c_str(),
                     probe.stage.c_str(), probe.seen[probe.stage]);
+      } else if (ended_in_time) {
+        std::printf("[ %s: the run ended %.3f s after the cancel was due (%s), no cancel ]\n",
+                    name.c_str(), late, what.c_str());
       } else {
         ADD_FAILURE() << name << ": not cancelled (" << what << ")";
       }
