@@ -104,7 +104,7 @@ def skin_weights(V, F, bones, tails=None, *, parents=None, prepared=None,
     with the same options. prepared: a dcg.PreparedMesh of this same (V, F)
     (Extractor.prepare()) to reuse in that case instead of running stage 0 again (checked, and
     unused for a smaller input). options: any of dcg.OPTIONS; the weights use max_influences
-    (4), heat (4.0), min_weight (0.05), bone_reach (3), far_weight (0.1), tie_tolerance (1e-4),
+    (4), heat (4.0), min_weight (0.05), bone_reach (3), far_weight (0.1), tie_tolerance (3e-4),
     target_faces (what is large) and,
     for a large input, stage 0's (repair, upsample, seed); the skeleton's other options are
     checked and unused, so the same **options work for both calls. progress(stage, fraction) is

@@ -74,8 +74,10 @@ struct WeightsOptions {
   /// Bones beyond bone_reach keep their weight from this weight up.
   double far_weight = 0.1;
   /// Bones within this relative distance of the nearest visible one count as equally near
-  /// (p = 1/k), as in Pinocchio: a vertex at a joint lies as near to both bones there.
-  double tie_tolerance = 1e-4;
+  /// (p = 1/k), as in Pinocchio: a vertex at a joint lies as near to both bones there. On the
+  /// rigged characters, 3e-4 and 1e-3 deform closest to the artists' weights (mean error
+  /// 0.6663%, against 0.6668 at Blender's 1e-4, 0.6750 at 0, 0.6682 at 3e-3, 0.7715 at 0.1).
+  double tie_tolerance = 3e-4;
   /// Throws InputError naming the first option out of range.
   void validate() const;
 };
