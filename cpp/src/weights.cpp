@@ -90,10 +90,30 @@ Eigen::VectorXi vertex_components(int nv, const Faces& F, int& count) {
   return label;
 }
 
+// For each vertex, the lowest-numbered vertex at exactly the same position.
+std::vector<int> same_position(const Vertices& V) {
+  std::vector<int> order(static_cast<std::size_t>(V.rows()));
+  std::iota(order.begin(), order.end(), 0);
+  auto less = [&](int a, int b) {
+    for (int k = 0; k < 3; ++k)
+      if (V(a, k) != V(b, k)) return V(a, k) < V(b, k);
+    return a < b;
+  };
+  tbb::parallel_sort(order.begin(), order.end(), less);
+  std::vector<int> same(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const bool first = i == 0 || V.row(order[i]) != V.row(order[i - 1]);
+    same[order[i]] = first ? order[i] : same[order[i - 1]];
+  }
+  return same;
+}
+
 // Per part (component of `component`, `count` parts): true when it is a closed surface whose
 // faces are oriented consistently and outwards: each directed edge as often as its reverse (an
-// edge of four faces may alternate), a positive enclosed volume. Only such a part tells inside
-// from outside by ray parity and faces seen from behind (BoneHeat::visible).
+// edge of four faces may alternate), a positive enclosed volume. Edges join vertices by position:
+// a game mesh is often closed only through faces between coincident vertices, which stage 0
+// drops as degenerate (Q_Male_Casual's body: 12 edges left unmatched by index). Only such a part
+// tells inside from outside by ray parity and faces seen from behind (BoneHeat::visible).
 std::vector<char> closed_outward_parts(const Vertices& V, const Faces& F,
                                        const Eigen::VectorXi& component, int count) {
   std::vector<char> closed(static_cast<std::size_t>(count), 1);
@@ -104,10 +124,13 @@ std::vector<char> closed_outward_parts(const Vertices& V, const Faces& F,
   directed.reserve(static_cast<std::size_t>(F.rows()) * 3);
   reversed.reserve(static_cast<std::size_t>(F.rows()) * 3);
   const std::int64_t n = V.rows();
+  const std::vector<int> same = same_position(V);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
-      directed.push_back(F(f, k) * n + F(f, (k + 1) % 3));
-      reversed.push_back(F(f, (k + 1) % 3) * n + F(f, k));
+      const std::int64_t a = same[F(f, k)], b = same[F(f, (k + 1) % 3)];
+      if (a == b) continue;  // an edge between coincident vertices
+      directed.push_back(a * n + b);
+      reversed.push_back(b * n + a);
     }
   tbb::parallel_sort(directed.begin(), directed.end());
   tbb::parallel_sort(reversed.begin(), reversed.end());

@@ -216,6 +216,15 @@ TEST(WeightsVisibility, AClosedPartShowsTheBonesItHoldsThroughItsBackFaces) {
   };
   const Bones rising = bones_from({low, {inside, outside}});
   EXPECT_EQ(nearest_of_p(a, rising), 1);
+  // Nor does a crack between coincident vertices (the pole split in two: half of its fan uses a
+  // copy of it), as game meshes have where stage 0 dropped a face between coincident vertices.
+  Mesh split = a;
+  split.V.conservativeResize(a.V.rows() + 1, 3);
+  split.V.row(a.V.rows()) = a.V.row(0);
+  for (Eigen::Index f = 0, fan = 0; f < split.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (split.F(f, k) == 0 && fan++ % 2) split.F(f, k) = static_cast<int>(a.V.rows());
+  EXPECT_EQ(nearest_of_p(split, rising), 1);
   // A part elsewhere changes nothing.
   EXPECT_EQ(nearest_of_p(merged(a, sphere(Eigen::RowVector3d(5, 0, 0), 1.0)), rising), 1);
   // A head outside the shape marks a control bone (a root on the floor): not seen through.
