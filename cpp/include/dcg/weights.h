@@ -145,7 +145,7 @@ class BoneHeat {
 
   /// The cotangent Laplacian L (#V by #V, negative semi-definite, rows summing to 0).
   const Eigen::SparseMatrix<double>& laplacian() const;
-  /// The #V vertex areas (a third of the incident triangles' areas).
+  /// The #V mixed Voronoi vertex areas (Meyer et al. 2003; they sum to the surface area).
   const Eigen::VectorXd& areas() const;
   /// Index of the nearest visible bone of each vertex (-1: sees none) and the distance to it
   /// (the normal-weighted d of the equations; infinity when none), ties resolved to the lowest
