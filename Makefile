@@ -78,6 +78,7 @@ addon: build
 # set, faces, parts, seconds, MCF's ratio, inside % by parts and the speed targets missed
 # (out/bench/stress.md), the same as JSON (out/bench/summary.json); the
 # whole pipeline on a 1.4M-face subdivided armadillo, time and peak RSS (out/bench/big.md);
+# a live tau, Extractor.retune on hand, horse and quadruped-100k (out/bench/retune.md);
 # then `dcg batch` models per minute with 1 and 2 workers: out/bench/batch.md; our skinning
 # weights against Blender's bone heat on the same armatures (out/bench/weights.md, and spot at
 # scales 0.01 and 100 in weights-scaled.md); on the artist-rigged characters of RIGGED, our
@@ -96,6 +97,8 @@ bench: build
 	  --public $(DCG_MESHES) --out $(OUT)/bench/report.md $(MESHES) $(STRESS) $(RIGGED)
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_big.py --mesh $(OUT)/bench/armadillo-1m.ply \
 	  --out $(OUT)/bench/big.md
+	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_retune.py --out $(OUT)/bench/retune.md \
+	  $(DCG_MESHES)/hand.obj $(DCG_MESHES)/horse.ply $(STRESS)/quadruped-100k.ply
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_batch.py --out $(OUT)/bench/batch.md $(MESHES)
 	$(BLENDER) -b --factory-startup --python scripts/bench_weights.py -- --pythonpath $(BUILD)/python \
 	  --out $(OUT)/bench/weights.md $(BENCH_FILES)

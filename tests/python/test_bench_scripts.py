@@ -11,7 +11,7 @@ import pytest
 import dcg
 
 SCRIPTS = ["bench.py", "bench_batch.py", "bench_big.py", "bench_compare.py",
-           "bench_rig_quality.py", "make_stress_set.py", "make_big_mesh.py"]
+           "bench_retune.py", "bench_rig_quality.py", "make_stress_set.py", "make_big_mesh.py"]
 
 
 @pytest.mark.parametrize("script", SCRIPTS)
@@ -21,3 +21,23 @@ def test_bench_script_prints_its_usage(repo, script):
                             env=env, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert "usage:" in result.stdout
+
+
+def test_bench_retune_times_each_tau_and_checks_the_limits(repo, tmp_path):
+    import bench_retune  # scripts/ is on sys.path (conftest)
+
+    spot = repo / "data" / "spot.obj"
+    faces, full, best = bench_retune.measure(spot, [0.7, 0.95], rounds=2)
+    assert faces == 5856 and full > 0
+    assert sorted(best) == [0.7, 0.95]
+    for rethreshold, skeleton, ends in best.values():
+        assert 0 < rethreshold <= skeleton and ends >= 1
+    # The retuned skeleton is the one a fresh run at that tau gives: here, its ends.
+    V, F = dcg.load_mesh(spot)
+    fresh = dcg.extract_skeleton(V, F, tau=0.7)
+    assert best[0.7][2] == int((fresh.kinds == "end").sum())
+    # Limits: the re-threshold from 90k faces, the new skeleton on hand.obj only.
+    assert "missed" in bench_retune.verdicts("hand.obj", 9556, 0.001, 0.5)
+    assert "met" in bench_retune.verdicts("hand.obj", 9556, 0.001, 0.1)
+    assert "missed" in bench_retune.verdicts("horse.ply", 96966, 0.06, 0.1)
+    assert bench_retune.verdicts("spot.obj", 5856, 1.0, 1.0) == "-"
