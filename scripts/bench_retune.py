@@ -1,7 +1,7 @@
 """The live-tau row of `make bench`: how fast `Extractor.retune(tau)` re-thresholds the prongs
 and how fast the skeleton at the new tau follows (only the end points, the domain graph, the
 remap and the skeleton run again), against issue 18's limits: the re-threshold at most 50 ms at
-100k faces, the new skeleton at most 0.3 s on hand.obj. Writes out/bench/retune.md.
+100k faces, the new skeleton at most 0.3 s on hand.obj. Writes out/bench/retune.md (and .jsonl).
 
     PYTHONPATH=build/python python3 scripts/bench_retune.py [MESH ...] [--out out/bench/retune.md]
 
@@ -16,6 +16,8 @@ import platform
 import sys
 import time
 from pathlib import Path
+
+import quality_tables  # beside this script (scripts/)
 
 ROOT = Path(__file__).resolve().parents[1]
 MESHES = Path(os.environ.get("DCG_MESHES", ROOT.parent / "shared" / "meshes"))
@@ -72,17 +74,20 @@ def main(argv=None):
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--out", type=Path, default=ROOT / "out/bench/retune.md")
     args = parser.parse_args(argv)
-    rows = []
+    records = []
     for path in args.meshes:
         if not path.is_file():
             print(f"bench_retune: {path} not found, skipped", file=sys.stderr)
             continue
         faces, full, best = measure(path, args.tau, args.rounds)
-        for tau, (rethreshold, skeleton, ends) in best.items():
-            rows.append(f"| {path.name} | {faces} | {full:.3f} | {tau:g} | {ends} "
-                        f"| {1000 * rethreshold:.2f} | {1000 * skeleton:.1f} "
-                        f"| {verdicts(path.name, faces, rethreshold, skeleton)} |")
+        records += [{"mesh": path.name, "faces": faces, "full_s": full, "tau": tau, "ends": ends,
+                     "rethreshold_ms": 1000 * rethreshold, "skeleton_ms": 1000 * skeleton,
+                     "limits": verdicts(path.name, faces, rethreshold, skeleton)}
+                    for tau, (rethreshold, skeleton, ends) in best.items()]
         print(f"bench_retune: {path.name} done", file=sys.stderr)
+    rows = [f"| {r['mesh']} | {r['faces']} | {r['full_s']:.3f} | {r['tau']:g} | {r['ends']} "
+            f"| {r['rethreshold_ms']:.2f} | {r['skeleton_ms']:.1f} | {r['limits']} |"
+            for r in records]
     lines = [
         "# Live tau: Extractor.retune",
         "",
@@ -99,9 +104,7 @@ def main(argv=None):
         *rows,
         "",
     ]
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text("\n".join(lines))
-    print("\n".join(lines))
+    quality_tables.write(args.out, lines, records)
     return 0
 
 
