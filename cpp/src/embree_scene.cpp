@@ -138,6 +138,20 @@ void occluded8(const int* valid, RTCScene scene, RTCRay8* ray) {
 }
 #endif
 
+int first_hit(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+              double tnear, double tfar, double* t, double* u, double* v) {
+  RTCRayHit rh;
+  rh.ray = single_ray(origin, direction, tnear, tfar);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  intersect1(scene, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
+  *t = rh.ray.tfar;
+  if (u) *u = rh.hit.u;
+  if (v) *v = rh.hit.v;
+  return static_cast<int>(rh.hit.primID);
+}
+
 bool occluded(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
               double tnear, double tfar) {
   RTCRay ray = single_ray(origin, direction, tnear, tfar);

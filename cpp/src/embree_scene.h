@@ -51,6 +51,11 @@ void occluded1(RTCScene scene, RTCRay* ray);
 void intersect8(const int* valid, RTCScene scene, RTCRayHit8* rayhit, bool coherent);
 void occluded8(const int* valid, RTCScene scene, RTCRay8* ray);
 
+/// The first triangle of `scene` on the ray (rtcIntersect1): its index, -1 for none; its t and
+/// barycentric u, v where asked.
+int first_hit(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+              double tnear, double tfar, double* t, double* u = nullptr, double* v = nullptr);
+
 /// True when some triangle of `scene` lies on the ray (rtcOccluded1).
 bool occluded(RTCScene scene, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
               double tnear, double tfar);

@@ -208,17 +208,8 @@ struct SurfaceQuery::Impl {
   // The first hit along origin + t * direction, t in (tnear, tfar); returns false when none.
   bool first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double tnear,
                  double tfar, double* t, int* face, double* u, double* v) const {
-    RTCRayHit rh;
-    rh.ray = internal::single_ray(origin - center, direction, tnear, tfar);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    internal::intersect1(scene, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-    *t = rh.ray.tfar;
-    *face = static_cast<int>(rh.hit.primID);
-    *u = rh.hit.u;
-    *v = rh.hit.v;
-    return true;
+    *face = internal::first_hit(scene, origin - center, direction, tnear, tfar, t, u, v);
+    return *face >= 0;
   }
 
   // Parity of ray crossings, majority of 3 non-grazing rays. Returns true when inside.

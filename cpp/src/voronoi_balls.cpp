@@ -265,19 +265,6 @@ Balls drop_balls_outside(Balls balls, const SurfaceQuery& query,
   return balls;
 }
 
-// Unit normals of the faces of `mesh` (zero for a degenerate face), #F by 3.
-Points face_normals(const Mesh& mesh) {
-  Points out(mesh.F.rows(), 3);
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::RowVector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
-                             c = mesh.V.row(mesh.F(f, 2));
-    const Eigen::RowVector3d n = (b - a).cross(c - a);
-    const double length = n.norm();
-    out.row(f) = length > 0 ? Eigen::RowVector3d(n / length) : Eigen::RowVector3d::Zero();
-  }
-  return out;
-}
-
 // True when point e lies strictly in front of the face of each of the Delaunay cell's four
 // samples: then e is the centre of an empty ball that is almost always outside the shape (a ball
 // inside touches each sample from behind its face). Not always: the circumcenter of a flat cell
@@ -286,10 +273,10 @@ Points face_normals(const Mesh& mesh) {
 template <class Cell>
 bool in_front_of_all(const Eigen::Vector3d& e, const Cell& cell,
                      const std::vector<Eigen::Vector3d>& candidates,
-                     const std::vector<int>& candidate_face, const Points& normal) {
+                     const std::vector<int>& candidate_face, const SurfaceQuery& query) {
   for (int k = 0; k < 4; ++k) {
     const int i = cell->vertex(k)->info();
-    if ((e - candidates[i]).dot(normal.row(candidate_face[i]).transpose()) <= 0) return false;
+    if ((e - candidates[i]).dot(query.face_normal(candidate_face[i])) <= 0) return false;
   }
   return true;
 }
@@ -358,7 +345,6 @@ Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
   centers.reserve(dt.number_of_finite_cells());
   hint.reserve(dt.number_of_finite_cells());
   front.reserve(dt.number_of_finite_cells());
-  const Points normal = face_normals(mesh);
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
     const auto p = CGAL::circumcenter(c->vertex(0)->point(), c->vertex(1)->point(),
                                       c->vertex(2)->point(), c->vertex(3)->point());
@@ -368,7 +354,7 @@ Balls compute_voronoi_balls(const Mesh& mesh, const SurfaceQuery& query,
       continue;
     centers.push_back(e);
     hint.push_back(c->vertex(0)->info());
-    front.push_back(in_front_of_all(e, c, candidates, candidate_face, normal) ? 1 : 0);
+    front.push_back(in_front_of_all(e, c, candidates, candidate_face, query) ? 1 : 0);
   }
   std::vector<double> radius(centers.size(), -1.0);
   // In chunks, polling between them (never from TBB's workers).

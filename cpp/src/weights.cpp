@@ -108,6 +108,20 @@ std::vector<int> same_position(const Vertices& V) {
   return same;
 }
 
+// The distinct values of `values` whose number of occurrences n passes keep(value, n), sorted.
+template <class Keep>
+std::vector<int> counted(std::vector<int> values, Keep keep) {
+  std::sort(values.begin(), values.end());
+  std::vector<int> out;
+  for (std::size_t i = 0; i < values.size();) {
+    std::size_t j = i;
+    while (j < values.size() && values[j] == values[i]) ++j;
+    if (keep(values[i], j - i)) out.push_back(values[i]);
+    i = j;
+  }
+  return out;
+}
+
 // Per part (component of `component`, `count` parts): true when it is a closed surface whose
 // faces are oriented consistently and outwards: each directed edge as often as its reverse (an
 // edge of four faces may alternate), a positive enclosed volume. Edges join vertices by position:
@@ -316,7 +330,7 @@ struct BoneHeat::Impl {
     if (!through_back_faces) return !internal::occluded(scene, origin, d, margin, length - margin);
     double tnear = margin, t = 0;
     for (int crossed = 0; crossed < kMaxBackFaces; ++crossed) {
-      const int f = first_hit(origin, d, tnear, length - margin, t);
+      const int f = internal::first_hit(scene, origin, d, tnear, length - margin, &t);
       if (f < 0) return true;
       if (face_normal(f).dot(d) < 0) return false;           // entering the shape: hidden
       if (component[F(f, 0)] != component[v]) return false;  // another part: hidden
@@ -356,43 +370,17 @@ struct BoneHeat::Impl {
     for (const Eigen::Vector3d& d : directions) {
       std::vector<int> crossed;
       double tnear = 0, t = 0;
-      for (int f;
-           static_cast<int>(crossed.size()) < kMaxCrossings &&
-           (f = first_hit(origin, d, tnear, std::numeric_limits<double>::infinity(), t)) >= 0;) {
+      for (int f; static_cast<int>(crossed.size()) < kMaxCrossings &&
+                  (f = internal::first_hit(scene, origin, d, tnear,
+                                           std::numeric_limits<double>::infinity(), &t)) >= 0;) {
         crossed.push_back(component[F(f, 0)]);
         tnear = t + kStep * mean_edge;
       }
-      std::sort(crossed.begin(), crossed.end());
-      for (std::size_t i = 0; i < crossed.size();) {
-        std::size_t j = i;
-        while (j < crossed.size() && crossed[j] == crossed[i]) ++j;
-        if ((j - i) % 2 && closed_part[crossed[i]]) votes.push_back(crossed[i]);
-        i = j;
-      }
+      const std::vector<int> odd = counted(
+          std::move(crossed), [&](int c, std::size_t n) { return n % 2 == 1 && closed_part[c]; });
+      votes.insert(votes.end(), odd.begin(), odd.end());
     }
-    std::sort(votes.begin(), votes.end());
-    std::vector<int> out;
-    for (std::size_t i = 0; i < votes.size();) {
-      std::size_t j = i;
-      while (j < votes.size() && votes[j] == votes[i]) ++j;
-      if (j - i >= 2) out.push_back(votes[i]);
-      i = j;
-    }
-    return out;
-  }
-
-  // The first face on the ray origin + t d, t in [tnear, tfar] (origin relative to `center`),
-  // -1 for none; its t in `t`.
-  int first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& d, double tnear, double tfar,
-                double& t) const {
-    RTCRayHit hit;
-    hit.ray = internal::single_ray(origin, d, tnear, tfar);
-    hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    internal::intersect1(scene, &hit);
-    if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
-    t = hit.ray.tfar;
-    return static_cast<int>(hit.hit.primID);
+    return counted(std::move(votes), [](int, std::size_t n) { return n >= 2; });
   }
 
   Eigen::Vector3d face_normal(int f) const {
@@ -402,15 +390,15 @@ struct BoneHeat::Impl {
 
   // The heat sources of `vertices` under `rule` (see SourceRule), by the distance of weights.h
   // (divided by (1.001 + cos) / 2, except under Nearest) with ties within tie_tolerance.
-  void find_sources(const Bones& bones, double tie_tolerance, const std::vector<int>& vertices,
-                    SourceRule rule, std::vector<Source>& out) const {
+  // head_parts: head_parts_of(bones).
+  void find_sources(const Bones& bones, const std::vector<std::vector<int>>& head_parts,
+                    double tie_tolerance, const std::vector<int>& vertices, SourceRule rule,
+                    std::vector<Source>& out) const {
     const Impl& m = *this;
     const int nb = static_cast<int>(bones.count());
     const double margin = 1e-2 * m.mean_edge;
     const bool blind = rule == SourceRule::Nearest;
     const bool strict = rule == SourceRule::NearestIfVisible;
-    const std::vector<std::vector<int>> head_parts =
-        blind ? std::vector<std::vector<int>>() : head_parts_of(bones);
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, vertices.size(), 256),
         [&](const tbb::blocked_range<std::size_t>& range) {
@@ -566,7 +554,8 @@ void BoneHeat::nearest_visible_bones(const Bones& bones, Eigen::VectorXi& bone,
   std::vector<int> all(nv);
   std::iota(all.begin(), all.end(), 0);
   std::vector<Source> sources(nv);
-  impl_->find_sources(bones, 0.0, all, SourceRule::NearestVisible, sources);
+  impl_->find_sources(bones, impl_->head_parts_of(bones), 0.0, all, SourceRule::NearestVisible,
+                      sources);
   bone.resize(nv);
   distance.resize(nv);
   for (int v = 0; v < nv; ++v) {
@@ -593,6 +582,7 @@ Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& option
   // unweighted).
   auto start = Clock::now();
   std::vector<Source> sources(nv);
+  const std::vector<std::vector<int>> head_parts = m.head_parts_of(bones);
   for (const SourceRule rule :
        {SourceRule::NearestIfVisible, SourceRule::NearestVisible, SourceRule::Nearest}) {
     std::vector<char> has_source(m.component_count, 0);
@@ -605,7 +595,8 @@ Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& option
       rep.blind_components = static_cast<int>(std::count(has_source.begin(), has_source.end(), 0));
       for (int v = 0; v < nv; ++v) rep.unseen_vertices += sources[v].first < 0;
     }
-    if (!retry.empty()) m.find_sources(bones, options.tie_tolerance, retry, rule, sources);
+    if (!retry.empty())
+      m.find_sources(bones, head_parts, options.tie_tolerance, retry, rule, sources);
   }
   rep.timings.emplace_back("visibility", seconds_since(start));
   at(0.25);
