@@ -37,7 +37,7 @@ ShrinkResult shrink(const Eigen::Vector3d& start, const ForceField& field,
     if (!std::isfinite(s.r_min)) break;  // not inside anything: leave it where it is
     Eigen::Vector3d d = alpha * std::pow(s.r_min, n + 1) * s.force;
     if (d.norm() > 0.5 * s.r_min) d *= 0.5 * s.r_min / d.norm();
-    if (d.norm() < 1e-3 * s.r_min) {
+    if (d.norm() < o.arrived * s.r_min) {
       out.converged = true;
       break;
     }
@@ -120,8 +120,8 @@ ConnectionPoints compute_connection_points(const Points& domain_points, const Fo
                                            const ConnectionPointsOptions& options,
                                            const Progress& progress, double from, double to) {
   check_option("shrink_step", options.shrink_step);
-  if (options.max_steps < 0 || options.max_halvings < 1) {
-    throw InputError("connection points: max_steps must be >= 0 and max_halvings >= 1");
+  if (options.max_steps < 0 || options.max_halvings < 1 || !(options.arrived >= 0)) {
+    throw InputError("connection points: max_steps and arrived must be >= 0 and max_halvings >= 1");
   }
   const int count = static_cast<int>(domain_points.rows());
   ConnectionPoints out;
