@@ -37,6 +37,9 @@ PYBIND11_MODULE(_core, m) {
     }
   });
   dcg_py::bind_io(m);
+  // The pybind11 this module was built with: before 2.12 its numpy support calls C functions
+  // that numpy 2 no longer has (a crash at the first array), so the package checks it on import.
+  m.attr("pybind11_version") = py::make_tuple(PYBIND11_VERSION_MAJOR, PYBIND11_VERSION_MINOR);
   dcg_py::bind_options(m);
   dcg_py::bind_results(m);
   dcg_py::bind_pipeline(m);

@@ -39,10 +39,27 @@ from typing import Callable, Optional, Tuple
 
 import numpy as np
 
-from . import _core, bones, humanoid, rolls, symmetry  # noqa: F401  (the bone planner's parts)
-from .options import OPTIONS, SKELETON_OPTIONS, OptionInfo, normalize_options
-from .skeleton import FORMAT, Skeleton
-from .weights import BoneHeat, SkinWeights, skin_weights
+from . import _core
+
+
+def _check_numpy(pybind11_version: Tuple[int, int], numpy_version: str) -> None:
+    """ImportError, instead of a crash at the first array, when the compiled module's pybind11
+    predates numpy 2 support (2.12) and numpy 2 or later is installed."""
+    numpy_major = int(numpy_version.split(".")[0])
+    if numpy_major >= 2 and tuple(pybind11_version) < (2, 12):
+        raise ImportError(
+            f"dcg's compiled module was built with pybind11 {pybind11_version[0]}."
+            f"{pybind11_version[1]}, which cannot pass arrays to numpy {numpy_version}: use the "
+            "dcg wheel (built with pybind11 >= 2.12), rebuild against pybind11 >= 2.12, or run "
+            "it with numpy < 2")
+
+
+_check_numpy(getattr(_core, "pybind11_version", (2, 12)), np.__version__)
+
+from . import bones, humanoid, rolls, symmetry  # noqa: E402,F401  (the bone planner's parts)
+from .options import OPTIONS, SKELETON_OPTIONS, OptionInfo, normalize_options  # noqa: E402
+from .skeleton import FORMAT, Skeleton  # noqa: E402
+from .weights import BoneHeat, SkinWeights, skin_weights  # noqa: E402
 
 # The stages' results: engine objects, read-only, each field as its header documents it
 # (cpp/include/dcg/<stage>.h); arrays are float64 / int64 numpy arrays.

@@ -253,3 +253,13 @@ def test_limit_threads_caps_the_engines_threads_and_lifts_again():
     for bad in (-1, 1.5, True, "2"):
         with pytest.raises(ValueError, match="whole number"):
             dcg.limit_threads(bad)
+
+
+def test_a_module_built_before_numpy_2_support_refuses_numpy_2_on_import():
+    # pybind11 < 2.12 calls numpy C functions that numpy 2 dropped: a crash at the first array
+    # (Debian 12's pybind11 2.10 with pyenv's numpy 2 segfaulted in Extractor()).
+    with pytest.raises(ImportError, match="pybind11 2.10.*numpy 2.4.6"):
+        dcg._check_numpy((2, 10), "2.4.6")
+    dcg._check_numpy((2, 10), "1.26.4")  # numpy 1: fine
+    dcg._check_numpy((2, 13), "2.2.4")  # pybind11 2.13 supports numpy 2
+    assert tuple(dcg._core.pybind11_version) >= (2, 6)
