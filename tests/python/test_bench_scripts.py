@@ -41,3 +41,15 @@ def test_bench_retune_times_each_tau_and_checks_the_limits(repo, tmp_path):
     assert "met" in bench_retune.verdicts("hand.obj", 9556, 0.001, 0.1)
     assert "missed" in bench_retune.verdicts("horse.ply", 96966, 0.06, 0.1)
     assert bench_retune.verdicts("spot.obj", 5856, 1.0, 1.0) == "-"
+
+
+def test_bench_says_when_mcf_made_different_skeletons_in_its_runs():
+    import bench  # scripts/ is on sys.path (conftest)
+
+    varied = {"runs_seconds": [0.0978, 0.146, 0.185], "runs_skeleton_vertices": [138, 137, 140]}
+    assert bench.mcf_spread(varied) == ("MCF differs between runs: 137-140 skeleton vertices, "
+                                        "0.098-0.185 s over 3 runs (median used)")
+    assert bench.mcf_spread({"runs_seconds": [0.022, 0.023],
+                             "runs_skeleton_vertices": [48, 48]}) == ""  # the same skeleton
+    assert bench.mcf_spread({"runs_seconds": [0.5], "runs_skeleton_vertices": [48]}) == ""
+    assert bench.mcf_spread({}) == ""  # MCF did not run
