@@ -39,8 +39,10 @@ struct ConnectionPointsOptions {
   /// A step below this x r_min ends the shrink. Near a minimum the steps shrink geometrically (by
   /// ~0.9 a step on the torus): 3e-3 stops within a few percent of r_min of where 1e-3 did, far
   /// inside the merge distance (merge_fraction x r), in 40% fewer fans on the torus, 12% on the
-  /// hand; the same ends, joints, cycles and stability on all 43 public, stress and rigged
-  /// meshes. 1e-2 changed the joints of 4 and the stability of 4.
+  /// hand. Against 1e-3 on all 43 public, stress and rigged meshes: the same ends, joints,
+  /// cycles and stability; the torus's 6 connection points 0.4% of its extent away; merges that
+  /// turned out otherwise (1-2 connection points more or fewer) on 10. 1e-2 changed the joints
+  /// of 4 and the stability of 4.
   double arrived = 3e-3;
   double merge_fraction = 0.5;  ///< merge points closer than this x the smaller radius
 };
