@@ -8,6 +8,7 @@
 #include <tbb/global_control.h>
 
 #include "dcg/connection_points.h"
+#include "dcg/errors.h"
 #include "dcg/force_field.h"
 #include "dcg/surface_query.h"
 #include "shapes.h"
@@ -64,6 +65,35 @@ TEST(ConnectionPoints, ShrinkingStaysInsideLowersTheFieldAndStops) {
   for (Eigen::Index i = 0; i < start.rows(); ++i) {
     EXPECT_LE(cp.magnitude[cp.cluster[i]], cp.shrunk_magnitude[i] + 1e-12);
   }
+}
+
+TEST(ConnectionPoints, ArrivedTradesStepsForHowCloseToTheMinimumAPointStops) {
+  const Mesh m = test::capsule(0.5, 2.0);
+  auto q = std::make_shared<const dcg::SurfaceQuery>(m);
+  const dcg::ForceField field(q);
+  const dcg::Points start = random_inside(*q, m, 40, 2);
+  auto run = [&](double arrived, int* steps, double* off_axis) {
+    dcg::ConnectionPointsOptions o;
+    o.arrived = arrived;
+    const dcg::ConnectionPoints cp = dcg::compute_connection_points(start, field, o);
+    *steps = cp.steps.sum();
+    *off_axis = 0;
+    for (Eigen::Index i = 0; i < start.rows(); ++i) {
+      EXPECT_TRUE(cp.converged[i]) << arrived << " " << i;
+      EXPECT_TRUE(q->inside(cp.shrunk.row(i).transpose())) << arrived << " " << i;
+      *off_axis += cp.shrunk.row(i).head<2>().norm() / static_cast<double>(start.rows());
+    }
+  };
+  int fine_steps = 0, coarse_steps = 0;
+  double fine_off = 0, coarse_off = 0;
+  run(1e-3, &fine_steps, &fine_off);
+  run(3e-2, &coarse_steps, &coarse_off);
+  EXPECT_LT(coarse_steps, fine_steps);  // fewer fans...
+  EXPECT_LT(fine_off, coarse_off);      // ...for points left farther from the axis
+  EXPECT_LT(coarse_off, 0.1);           // still near it (radius 0.5)
+  dcg::ConnectionPointsOptions bad;
+  bad.arrived = -1;
+  EXPECT_THROW(dcg::compute_connection_points(start, field, bad), dcg::InputError);
 }
 
 TEST(ConnectionPoints, GreedyMergingNeverChains) {
