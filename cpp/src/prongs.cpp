@@ -206,8 +206,8 @@ Eigen::VectorXd weighted_distance_sum(const EdgeGraph& g, const std::vector<int>
   // mesh): one parallel_for per chunk, a cancel poll between chunks. Chunks of 4 sources cost
   // the torus's 576 vertices more in TBB's start-up than in the Dijkstras. The sums add the
   // sources in order whatever the chunk, so the values do not depend on it.
-  const int chunk =
-      std::clamp((1 << 20) / std::max(n, 1), std::max(4, internal::per_thread(2)), std::max(S, 1));
+  // (std::max, not std::clamp: with fewer sources than the floor, clamp's bounds would cross.)
+  const int chunk = std::max({(1 << 20) / std::max(n, 1), 4, internal::per_thread(2)});
   std::vector<float> fields(static_cast<std::size_t>(std::min(chunk, S)) * n);
   for (int first = 0; first < S; first += chunk) {
     poll_at(at, static_cast<double>(first) / S);

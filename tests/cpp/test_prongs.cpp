@@ -100,6 +100,17 @@ TEST(ScaleFunction, EdgeGeodesicsAndDeterminism) {
                            b = dcg::compute_scale_function(sphere);
   EXPECT_EQ(a.values, b.values);
   EXPECT_EQ(a.sources, b.sources);
+  // Fewer sources than a chunk of the parallel sum (2 and 3 against at least 4): the mean
+  // distance on a unit sphere lies between 0 (a source itself) and pi.
+  for (const int count : {1, 2, 3}) {
+    dcg::ScaleFunctionOptions few;
+    few.geodesic_sources = count;
+    const dcg::ScaleFunction f = dcg::compute_scale_function(sphere, few);
+    EXPECT_EQ(f.sources.size(), count);
+    EXPECT_TRUE(f.values.allFinite()) << count;
+    EXPECT_GE(f.values.minCoeff(), 0) << count;
+    EXPECT_LE(f.values.maxCoeff(), 1.1 * M_PI) << count;
+  }
   dcg::ScaleFunctionOptions bad;
   bad.geodesic_sources = -1;
   EXPECT_THROW(dcg::compute_scale_function(sphere, bad), dcg::InputError);
