@@ -31,6 +31,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <numeric>
 #include <random>
 #include <sstream>
 #include <string>
@@ -358,15 +359,12 @@ std::string json_array(const std::vector<double>& values) {
 // Runs of the baseline per mesh go on while they total under this (big meshes run once).
 constexpr double kMcfRepeatSeconds = 2.0;
 
-// The median time of the baseline's runs (the mean of the middle two for an even count).
-double median_seconds(const std::vector<dcg::bench::McfResult>& runs) {
-  std::vector<double> t;
-  for (const auto& r : runs)
-    if (r.status == dcg::bench::McfResult::Status::Ok) t.push_back(r.seconds);
-  if (t.empty()) return NAN;
-  std::sort(t.begin(), t.end());
-  const std::size_t n = t.size();
-  return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+// The median of `seconds` (the mean of the middle two for an even count; NaN for none).
+double median(std::vector<double> seconds) {
+  if (seconds.empty()) return NAN;
+  std::sort(seconds.begin(), seconds.end());
+  const std::size_t n = seconds.size();
+  return n % 2 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
 }
 
 std::string json_pairs(const dcg::Edges& e) {
@@ -531,8 +529,8 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
 
   // The baseline, on the same triangles, when they loaded (even if our engine failed).
   double mcf_seconds = NAN;
-  dcg::bench::McfResult mcf;  // the first run: its skeleton is the one reported
-  std::vector<dcg::bench::McfResult> mcf_runs;
+  dcg::bench::McfResult mcf;                      // the first run: its skeleton is the one reported
+  std::vector<double> run_seconds, run_vertices;  // every successful run's time and skeleton size
   if (loaded) {
     bool ran = false;
     if (!args.mcf) {
@@ -543,19 +541,19 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
       std::cerr << ", MCF" << std::flush;
       mcf = dcg::bench::run_mcf_skeleton(mesh.V, mesh.F);
       ran = true;
-      mcf_runs.push_back(mcf);
-      double spent = mcf.seconds;
-      while (mcf.status == dcg::bench::McfResult::Status::Ok &&
-             static_cast<int>(mcf_runs.size()) < args.mcf_repeat && spent < kMcfRepeatSeconds) {
-        mcf_runs.push_back(dcg::bench::run_mcf_skeleton(mesh.V, mesh.F));
-        if (mcf_runs.back().status != dcg::bench::McfResult::Status::Ok) break;
-        spent += mcf_runs.back().seconds;
+      for (dcg::bench::McfResult run = mcf; run.status == dcg::bench::McfResult::Status::Ok;) {
+        run_seconds.push_back(run.seconds);
+        run_vertices.push_back(run.skeleton_vertices);
+        if (static_cast<int>(run_seconds.size()) >= args.mcf_repeat ||
+            std::accumulate(run_seconds.begin(), run_seconds.end(), 0.0) >= kMcfRepeatSeconds)
+          break;
+        run = dcg::bench::run_mcf_skeleton(mesh.V, mesh.F);
       }
     }
     JsonObject m;
     m.str("status", dcg::bench::status_name(mcf.status));
     if (mcf.status == dcg::bench::McfResult::Status::Ok) {
-      mcf_seconds = median_seconds(mcf_runs);
+      mcf_seconds = median(run_seconds);
       // Its inside %, sampled like ours: vertices, and along every edge.
       std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
       for (Eigen::Index e = 0; e < mcf.edges.rows(); ++e) {
@@ -563,11 +561,6 @@ std::string bench_mesh(const fs::path& path, const Args& args) {
                               mcf.points.row(mcf.edges(e, 1)).transpose());
       }
       const InsideCounts inside = inside_counts(surface.get(), mcf.points, segments, spacing);
-      std::vector<double> run_seconds, run_vertices;
-      for (const auto& r : mcf_runs) {
-        run_seconds.push_back(r.seconds);
-        run_vertices.push_back(r.skeleton_vertices);
-      }
       m.num("seconds", mcf_seconds)
           .raw("runs_seconds", json_array(run_seconds))
           .raw("runs_skeleton_vertices", json_array(run_vertices))

@@ -214,6 +214,15 @@ std::vector<int> farthest_points(const std::vector<Eigen::Vector3d>& pts, int k,
   return chosen;
 }
 
+// True when the ray from p along d (any length) first meets a face from behind (p is inside a
+// closed, outward-oriented mesh; from outside a ray meets a front or nothing).
+bool first_hit_from_behind(const SurfaceQuery& query, const Eigen::Vector3d& p,
+                           const Eigen::Vector3d& d) {
+  int face = -1;
+  const double t = query.ray_hit(p, d, &face);
+  return std::isfinite(t) && face >= 0 && query.face_normal(face).dot(d) > 0;
+}
+
 // Stage 1 keeps a Voronoi vertex when its signed distance is negative, a sign taken from the
 // nearest face's orientation. Where the working mesh folds through itself (0.3% vertex noise on
 // an octopus's thin tentacles) that sign is wrong near the fold, and circumcenters OUTSIDE the
@@ -230,28 +239,26 @@ Balls drop_balls_outside(Balls balls, const SurfaceQuery& query,
                          const std::function<void(double)>& at) {
   const Eigen::Index n = balls.radii.size();
   std::vector<char> keep(static_cast<std::size_t>(n), 1);
-  internal::parallel_chunks(
-      n, static_cast<Eigen::Index>(internal::per_thread(1024)), Eigen::Index{256}, at,
-      [&](const tbb::blocked_range<Eigen::Index>& r) {
-        for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
-          const Eigen::Vector3d c = balls.centers.row(i).transpose();
-          for (int k = 0; k < 2 && keep[i]; ++k) {
-            // Golden-angle spiral directions, indexed by ball and ray.
-            const double j = static_cast<double>(2 * i + k) + 0.5;
-            const double z = 1.0 - 2.0 * std::fmod(j * 0.6180339887498949, 1.0);
-            const double phi = j * 2.399963229728653;
-            const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-            const Eigen::Vector3d d(s * std::cos(phi), s * std::sin(phi), z);
-            int face = -1;
-            const double t = query.ray_hit(c, d, &face);
-            keep[i] = std::isfinite(t) && face >= 0 && query.face_normal(face).dot(d) > 0;
-          }
-          // A ray may also meet a face from the front inside the shape where the
-          // mesh intersects itself (cow: ears through the head): ray parity,
-          // which counts every crossing, has the last word.
-          if (!keep[i]) keep[i] = query.inside_by_parity(c) ? 1 : 0;
-        }
-      });
+  internal::parallel_chunks(n, static_cast<Eigen::Index>(internal::per_thread(1024)),
+                            Eigen::Index{256}, at, [&](const tbb::blocked_range<Eigen::Index>& r) {
+                              for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
+                                const Eigen::Vector3d c = balls.centers.row(i).transpose();
+                                for (int k = 0; k < 2 && keep[i]; ++k) {
+                                  // Golden-angle spiral directions, indexed by ball and ray.
+                                  const double j = static_cast<double>(2 * i + k) + 0.5;
+                                  const double z =
+                                      1.0 - 2.0 * std::fmod(j * 0.6180339887498949, 1.0);
+                                  const double phi = j * 2.399963229728653;
+                                  const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+                                  const Eigen::Vector3d d(s * std::cos(phi), s * std::sin(phi), z);
+                                  keep[i] = first_hit_from_behind(query, c, d);
+                                }
+                                // A ray may also meet a face from the front inside the shape where
+                                // the mesh intersects itself (cow: ears through the head): ray
+                                // parity, which counts every crossing, has the last word.
+                                if (!keep[i]) keep[i] = query.inside_by_parity(c) ? 1 : 0;
+                              }
+                            });
   Eigen::Index m = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!keep[i]) continue;
@@ -279,15 +286,6 @@ bool in_front_of_all(const Eigen::Vector3d& e, const Cell& cell,
     if ((e - candidates[i]).dot(query.face_normal(candidate_face[i])) <= 0) return false;
   }
   return true;
-}
-
-// True when the ray from p along d first meets a face from behind (p is inside a closed,
-// outward-oriented mesh; from outside a ray meets a front or nothing).
-bool first_hit_from_behind(const SurfaceQuery& query, const Eigen::Vector3d& p,
-                           const Eigen::Vector3d& d) {
-  int face = -1;
-  const double t = query.ray_hit(p, d.normalized(), &face);
-  return std::isfinite(t) && face >= 0 && query.face_normal(face).dot(d) > 0;
 }
 
 // Indices of `points` (inside the box lo-hi) in Morton order (10 bits per axis; ties keep their

@@ -7,6 +7,7 @@
 // ordering (tens of milliseconds); then the triangular solves, 8 bones per pass over the factor,
 // blocks in parallel. The transfer to the input is a few multiply-adds per input vertex and bone.
 #include "dcg/weights.h"
+#include "edge_table.h"
 #include "embree_scene.h"
 #include "union_find.h"
 
@@ -131,33 +132,24 @@ std::vector<int> counted(std::vector<int> values, Keep keep) {
 std::vector<char> closed_outward_parts(const Vertices& V, const Faces& F,
                                        const Eigen::VectorXi& component, int count) {
   std::vector<char> closed(static_cast<std::size_t>(count), 1);
-  // Sorted directed edges against sorted reversed ones (two parallel sorts: 3-4 ms on 20k
-  // faces, half what a binary search per edge took): a key in one but not the other is an edge
-  // of a part that is open or inconsistently oriented.
-  std::vector<std::int64_t> directed, reversed;
-  directed.reserve(static_cast<std::size_t>(F.rows()) * 3);
-  reversed.reserve(static_cast<std::size_t>(F.rows()) * 3);
-  const std::int64_t n = V.rows();
+  // The faces on their vertices joined by position; then, per edge (internal::EdgeTable), as
+  // many corners along it one way as the other, or the part is open or inconsistently oriented.
   const std::vector<int> same = same_position(V);
+  Faces joined(F.rows(), 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const std::int64_t a = same[F(f, k)], b = same[F(f, (k + 1) % 3)];
-      if (a == b) continue;  // an edge between coincident vertices
-      directed.push_back(a * n + b);
-      reversed.push_back(b * n + a);
-    }
-  tbb::parallel_sort(directed.begin(), directed.end());
-  tbb::parallel_sort(reversed.begin(), reversed.end());
-  auto open_at = [&](std::int64_t key) { closed[component[static_cast<int>(key / n)]] = 0; };
-  for (std::size_t i = 0, j = 0; i < directed.size() || j < reversed.size();) {
-    if (j == reversed.size() || (i < directed.size() && directed[i] < reversed[j])) {
-      open_at(directed[i++]);
-    } else if (i == directed.size() || reversed[j] < directed[i]) {
-      open_at(reversed[j++]);
-    } else {
-      ++i, ++j;
-    }
-  }
+    for (int k = 0; k < 3; ++k) joined(f, k) = same[F(f, k)];
+  const internal::EdgeTable edges(joined);
+  auto ends = [&](std::size_t i) {  // the corner's edge, from its vertex to the next one
+    const int corner = edges.half[i].second, f = corner / 3, k = corner % 3;
+    return std::make_pair(joined(f, k), joined(f, (k + 1) % 3));
+  };
+  edges.for_each_edge([&](std::size_t begin, std::size_t end) {
+    const auto [a, b] = ends(begin);
+    if (a == b) return;  // an edge between coincident vertices
+    int balance = 0;
+    for (std::size_t i = begin; i < end; ++i) balance += ends(i).first == a ? 1 : -1;
+    if (balance != 0) closed[component[a]] = 0;
+  });
   std::vector<double> volume(static_cast<std::size_t>(count), 0.0);  // six times the signed volume
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
