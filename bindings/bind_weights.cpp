@@ -48,6 +48,7 @@ void bind_skin_weights_class(py::module_& m) {
       .field("working_vertices", &W::working_vertices)
       .field("unseen_vertices", &W::unseen_vertices)
       .field("blind_components", &W::blind_components)
+      .field("rigid_parts", &W::rigid_parts)
       .field("fallback_vertices", &W::fallback_vertices)
       .field("timings", &W::timings)
       .def("dense", &W::dense, "The #V x #B weight matrix.")

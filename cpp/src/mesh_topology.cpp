@@ -220,6 +220,22 @@ int folded_edges(const Mesh& mesh) {
   return folds;
 }
 
+Eigen::Vector3d face_barycentric(const Mesh& mesh, int f, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                        c = mesh.V.row(mesh.F(f, 2));
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double n2 = n.squaredNorm();
+  Eigen::Vector3d l(1.0 / 3, 1.0 / 3, 1.0 / 3);
+  if (n2 > 0) {
+    l[0] = (c - b).cross(q - b).dot(n) / n2;
+    l[1] = (a - c).cross(q - c).dot(n) / n2;
+    l[0] = std::clamp(l[0], 0.0, 1.0);
+    l[1] = std::clamp(l[1], 0.0, 1.0 - l[0]);
+    l[2] = 1.0 - l[0] - l[1];
+  }
+  return l;
+}
+
 }  // namespace internal
 
 int mesh_genus(const Mesh& mesh) {

@@ -1,7 +1,7 @@
 // Internal (not installed): the connectivity of a triangle mesh, as stage 0 needs it to decide
 // whether the input is a closed manifold (and to tell the user what is wrong when it is not), to
 // orient it outward and to find flat folds. dcg::mesh_genus (declared in dcg/prepare.h) is
-// defined in mesh_topology.cpp as well.
+// defined in mesh_topology.cpp as well, and face_barycentric (points carried between meshes).
 #pragma once
 
 #include <array>
@@ -67,5 +67,9 @@ int folded_edges(const Mesh& mesh);
 /// connected loops. Returns (number of loops, bounding-box diagonal of the largest loop).
 std::pair<int, double> border_loops(const Vertices& V,
                                     const std::vector<std::pair<int, int>>& border_edges);
+
+/// Barycentric coordinates of q (a point on face f of `mesh`) in that face, clamped into the
+/// triangle; (1/3, 1/3, 1/3) on a degenerate face.
+Eigen::Vector3d face_barycentric(const Mesh& mesh, int f, const Eigen::Vector3d& q);
 
 }  // namespace dcg::internal

@@ -508,23 +508,6 @@ void remesh_to_target(const PrepareOptions& options, ThrottledProgress& poll, Pr
 
 // --- map back -----------------------------------------------------------------------------------
 
-// Barycentric coordinates of q (a point on face f of W) in that face, clamped into the
-// triangle; (1/3, 1/3, 1/3) on a degenerate face.
-Eigen::Vector3d barycentric(const Mesh& W, int f, const Eigen::Vector3d& q) {
-  const Eigen::Vector3d a = W.V.row(W.F(f, 0)), b = W.V.row(W.F(f, 1)), c = W.V.row(W.F(f, 2));
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  const double n2 = n.squaredNorm();
-  Eigen::Vector3d l(1.0 / 3, 1.0 / 3, 1.0 / 3);
-  if (n2 > 0) {
-    l[0] = (c - b).cross(q - b).dot(n) / n2;
-    l[1] = (a - c).cross(q - c).dot(n) / n2;
-    l[0] = std::clamp(l[0], 0.0, 1.0);
-    l[1] = std::clamp(l[1], 0.0, 1.0 - l[0]);
-    l[2] = 1.0 - l[0] - l[1];
-  }
-  return l;
-}
-
 // #V of W: one corner (3 x face + k) of a face using each vertex, its first; -1 when unused.
 std::vector<int> first_corners(const Mesh& W) {
   std::vector<int> corner(W.V.rows(), -1);
@@ -562,7 +545,8 @@ void map_input_vertices(const Vertices& Vn, const std::vector<int>& vertex_of,
                           int f = 0;
                           const Eigen::Vector3d q = query->closest_point(Vn.row(i).transpose(), &f);
                           out.map_face[i] = f;
-                          out.map_barycentric.row(i) = barycentric(W, f, q).transpose();
+                          out.map_barycentric.row(i) =
+                              internal::face_barycentric(W, f, q).transpose();
                         }
                       });
   }

@@ -240,6 +240,90 @@ TEST(WeightsVisibility, AClosedPartShowsTheBonesItHoldsThroughItsBackFaces) {
   EXPECT_EQ(nearest_of_p(merged(a, sphere(a.V.row(p), 0.1)), rising), -1);
 }
 
+// --- rigs' conventions (IK feet, accessories) ----------------------------------------------------
+
+TEST(WeightsRigs, ALeafThatStopsShortReachesTheFootItPointsAt) {
+  // A leg (capsule along z, radius 0.3, from z = -1.3 to 1.3): thigh and shin down its axis, the
+  // shin a leaf that ends at z = -0.2; the foot hangs from a root below the leg (an IK foot), its
+  // head at z = -0.8. Vertex p on the side at z = -0.6 lies nearer the foot's head than the
+  // shin's tail, but with the tree given the shin reaches the foot's head and takes p.
+  std::vector<int> ring;
+  const Mesh leg = capsule(0.3, 2.0, &ring, 6, 16, 20);
+  Eigen::Index p = 0;
+  (leg.V.rowwise() - Eigen::RowVector3d(0.3, 0, -0.6)).rowwise().squaredNorm().minCoeff(&p);
+  ASSERT_NEAR(leg.V(p, 2), -0.6, 1e-9);
+  Bones bones = bones_from({{{0, 0, -3.0}, {0, 0, -2.8}},      // 0 root, on the floor
+                            {{0, 0, 1.0}, {0, 0, 0.4}},        // 1 thigh
+                            {{0, 0, 0.4}, {0, 0, -0.2}},       // 2 shin, a leaf
+                            {{0, 0, -0.8}, {0.2, 0, -1.1}}});  // 3 foot
+  auto nearest_of_p = [&](const Mesh& m, const Bones& b) {
+    dcg::BoneHeat heat(m);
+    Eigen::VectorXi nearest;
+    Eigen::VectorXd distance;
+    heat.nearest_visible_bones(b, nearest, distance);
+    return nearest[p];
+  };
+  EXPECT_EQ(nearest_of_p(leg, bones), 3) << "no tree given: the shin stops where it ends";
+  bones.parents.resize(4);
+  bones.parents << -1, 0, 1, 0;
+  EXPECT_EQ(nearest_of_p(leg, bones), 2);
+  // The weights follow: p binds to the shin.
+  dcg::BoneHeat heat(leg);
+  EXPECT_GT(heat.solve(bones)(p, 2), 0.5);
+  // Not to a head outside its cone (60 degrees): the foot's head off to the side.
+  Bones aside = bones;
+  aside.heads.row(3) << 0.25, 0, -0.25;
+  aside.tails.row(3) << 0.25, 0, -0.6;
+  EXPECT_NE(nearest_of_p(leg, aside), 2);
+  // Nor across the outside: the foot in a part of its own (a ball below a shorter leg).
+  const Mesh shorter = capsule(0.3, 1.0, nullptr, 6, 16, 10);  // z from -0.8 to 0.8
+  const Mesh split = merged(shorter, sphere(Eigen::RowVector3d(0, 0, -1.4), 0.3));
+  Bones apart = bones;
+  apart.heads.row(3) << 0, 0, -1.3;
+  apart.tails.row(3) << 0, 0, -1.5;
+  dcg::BoneHeat split_heat(split);
+  Eigen::VectorXi nearest;
+  Eigen::VectorXd with, without;
+  split_heat.nearest_visible_bones(apart, nearest, with);
+  apart.parents.resize(0);
+  split_heat.nearest_visible_bones(apart, nearest, without);
+  EXPECT_LT((with - without).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(WeightsRigs, APartThatHoldsNoBoneMovesRigidlyWithWhereItIsAttached) {
+  // A head (sphere of radius 1) with two bones meeting at its center, and an eye (a small
+  // sphere pushed into its side just above the joint): heat alone blends the two bones across
+  // the eye; as an accessory it follows the upper bone, which weighs most on the head's surface
+  // where the eye is attached.
+  const Mesh head = sphere(Eigen::RowVector3d(0, 0, 0), 1.0, 24, 32);
+  const Mesh eye = sphere(Eigen::RowVector3d(0.95, 0, 0.2), 0.15);
+  // A ball beside a bone that no part holds (a wing's stub of a bone, outside everything).
+  const Mesh wing = sphere(Eigen::RowVector3d(4, 0, 0), 0.5);
+  const Mesh m = merged(merged(head, eye), wing);
+  Bones bones =
+      bones_from({{{0, 0, -0.8}, {0, 0, 0}}, {{0, 0, 0}, {0, 0, 0.8}}, {{3.2, 0, 0}, {3.3, 0, 0}}});
+  bones.parents.resize(3);
+  bones.parents << -1, 0, 0;
+  dcg::BoneHeat heat(m);
+  dcg::BoneHeat::Report report;
+  const Eigen::MatrixXd W = heat.solve(bones, {}, &report);
+  EXPECT_EQ(report.rigid_parts, 1);
+  const Eigen::Index e0 = head.V.rows(), e1 = e0 + eye.V.rows();
+  for (Eigen::Index v = e0; v < e1; ++v) {
+    EXPECT_EQ(W(v, 1), 1.0) << "eye vertex " << v;
+    EXPECT_EQ(W.row(v).sum(), 1.0) << "eye vertex " << v;
+  }
+  // The wing keeps its heat (its bone is held by no part), the head its blend.
+  EXPECT_NEAR(W.bottomRows(wing.V.rows()).col(2).minCoeff(), 1.0, 1e-6);
+  EXPECT_GT(W.topRows(e0).col(0).maxCoeff(), 0.99);
+  // Without the head's bones inside it the eye is no accessory: bones held by no part.
+  Bones outside = bones;
+  outside.heads.topRows(2).col(0).array() += 3;
+  outside.tails.topRows(2).col(0).array() += 3;
+  heat.solve(outside, {}, &report);
+  EXPECT_EQ(report.rigid_parts, 0);
+}
+
 // --- bone heat ----------------------------------------------------------------------------------
 
 TEST(WeightsHeat, OneBoneWeighsEverythingOne) {

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import dcg
+from dcg import metrics
 from dcg.weights import SkinWeights, skin_weights
 
 from conftest import cube, shared_skeleton
@@ -402,3 +403,56 @@ def test_bone_reach_keeps_a_vertex_to_bones_near_its_strongest_in_the_tree():
                          ([-1, 1, 1, 2, 3, 4], "parent 1"), ([-1, 0.5, 1, 2, 3, 4], "parents")):
         with pytest.raises(ValueError, match=message):
             skin_weights(V, F, heads, tails, parents=bad, **loose)
+
+
+def _artist_rig(meshes_dir, name):
+    """A rigged character's mesh, its artist's skeleton (dcg.metrics) and our weights on it."""
+    V, F = dcg.load_mesh(meshes_dir / "rigged" / f"{name}.obj")
+    rig = metrics.read_rig_info(meshes_dir / "rigged" / f"{name}.rig.txt", len(V))
+    heads, tails = metrics.joint_bones(rig.joints, rig.parents)
+    weights = dcg.skin_weights(V, F, heads, tails, parents=rig.parents)
+    return V, F, rig, weights
+
+
+def test_eyes_and_brows_move_rigidly_with_the_head(meshes_dir):
+    # Q_Male_Casual's eyes and brows are 6 closed parts of their own that hold no bone: each moves
+    # with the Head bone alone, as its artist weighted them (heat alone blends in the Neck).
+    V, F, rig, weights = _artist_rig(meshes_dir, "Q_Male_Casual")
+    assert weights.rigid_parts == 6
+    W = weights.dense()
+    head = rig.names.index("Head")
+    body = np.bincount(F.ravel(), minlength=len(V)).argmax()  # a vertex of the body
+    parts = _parts(V, F)
+    accessory = parts != parts[body]
+    assert accessory.sum() == 164
+    np.testing.assert_array_equal(W[accessory, head], 1.0)
+
+
+def test_a_shin_that_stops_above_an_ik_foot_keeps_the_ankle(meshes_dir):
+    # Q_Goblin's feet hang from the root on the floor (IK) and its shins are leaves that the
+    # rig_info protocol ends at mid-shin: the ankle below that end, which the artist gives the
+    # shin, must not go to the foot (it did, whole, before the shin reached the foot's head).
+    V, F, rig, weights = _artist_rig(meshes_dir, "Q_Goblin")
+    W = weights.dense()
+    _, tails = metrics.joint_bones(rig.joints, rig.parents)
+    for side in ("L", "R"):
+        shin = rig.names.index(f"LowerLeg.{side}")
+        ankle = (rig.weights[:, shin] > 0.9) & (V[:, 2] < tails[shin, 2])
+        assert ankle.sum() >= 6, side
+        assert (W[ankle].argmax(axis=1) == shin).all(), side
+
+
+def _parts(V, F):
+    """Connected parts of (V, F) with coincident vertices joined, a label per vertex."""
+    _, node = np.unique(np.round(V, 7), axis=0, return_inverse=True)
+    node = node.reshape(-1)
+    a, b = node[np.concatenate([F[:, 0], F[:, 1], F[:, 2]])], node[np.concatenate(
+        [F[:, 1], F[:, 2], F[:, 0]])]
+    label = np.arange(node.max() + 1)
+    while True:  # each node takes the lowest label of its neighbours until none changes
+        low = label.copy()
+        np.minimum.at(low, a, label[b])
+        np.minimum.at(low, b, label[a])
+        if np.array_equal(low, label):
+            return label[node]
+        label = low

@@ -27,6 +27,12 @@
 // there).
 // (M^-1 L is the paper's area-normalized Laplacian; multiplying by M makes the matrix
 // symmetric positive definite, so one sparse Cholesky factorization (LDL^T) serves every bone.)
+// Two rules of rigs beyond Blender's (measured against artists' weights, weights.cpp):
+// - a leaf bone that stops short of the head of a bone it points at, with the shape's inside
+//   between them, reaches that head for the distances above (a shin ending above an IK foot
+//   that hangs from the root: the ankle follows the shin);
+// - a closed part that holds no bone (an eye, a brow, a tooth) moves rigidly with one bone: the
+//   one that weighs most on the other parts' surface where it is attached.
 // An unheated vertex gets whatever diffuses to it along the surface from its neighbours. Since
 // the p_i sum to 1 wherever H > 0, the w_i sum to 1 everywhere; small negative values (obtuse
 // triangles) are clipped.
@@ -106,10 +112,12 @@ struct SkinWeights {
                               ///<    the working mesh's for a large input)
   int unseen_vertices = 0;    ///< working vertices that saw no bone (weights by diffusion)
   int blind_components = 0;   ///< working-mesh parts that saw no bone at all (nearest bone used)
+  int rigid_parts = 0;        ///< working-mesh parts that hold no bone, moved rigidly with the
+                              ///<    bone of the surface they are attached to (eyes, teeth)
   int fallback_vertices = 0;  ///< input vertices whose interpolated weights were all <= 0
                               ///< (given their nearest bone instead; should be 0)
   /// Seconds per step ("prepare" when stage 0 ran here, "laplacian", "visibility", "factor",
-  /// "solve", "transfer"), then "total".
+  /// "solve", "accessories", "transfer"), then "total".
   std::vector<std::pair<std::string, double>> timings;
 
   /// The weights as a dense #V by #B matrix (tests, small meshes).
@@ -132,7 +140,9 @@ class BoneHeat {
   struct Report {
     int unseen_vertices = 0;
     int blind_components = 0;
-    std::vector<std::pair<std::string, double>> timings;  ///< "visibility", "factor", "solve"
+    int rigid_parts = 0;
+    /// "visibility", "factor", "solve", "accessories"
+    std::vector<std::pair<std::string, double>> timings;
   };
 
   /// #V by #B weights of the mesh's vertices for `bones` (in the mesh's coordinates), clipped to
