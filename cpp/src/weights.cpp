@@ -474,37 +474,10 @@ struct BoneHeat::Impl {
     if (component_count < 2 ||
         std::find(closed_part.begin(), closed_part.end(), 1) == closed_part.end())
       return 0;
-    const int nb = static_cast<int>(bones.count());
-    std::vector<std::vector<int>> holders(nb);  // closed parts around some point of each bone
-    tbb::parallel_for(0, nb, [&](int b) {
-      for (int k = 0; k < kBoneSamples; ++k) {
-        const double s = static_cast<double>(k) / (kBoneSamples - 1);
-        const std::vector<int> around = closed_parts_around(
-            ((1 - s) * bones.heads.row(b) + s * bones.tails.row(b)).transpose());
-        holders[b].insert(holders[b].end(), around.begin(), around.end());
-      }
-      std::sort(holders[b].begin(), holders[b].end());
-      holders[b].erase(std::unique(holders[b].begin(), holders[b].end()), holders[b].end());
-    });
-    std::vector<char> holds(component_count, 0);
-    for (const std::vector<int>& parts : holders)
-      for (const int c : parts) holds[c] = 1;
     std::vector<std::vector<int>> members(component_count);
     for (int v = 0; v < V.rows(); ++v) members[component[v]].push_back(v);
-    std::vector<char> accessory(component_count, 0);
-    for (int c = 0; c < component_count; ++c) {
-      if (!closed_part[c] || holds[c]) continue;
-      int nearest = 0;
-      double nearest_d = std::numeric_limits<double>::infinity();
-      for (const int v : members[c])
-        for (int b = 0; b < nb; ++b) {
-          const double d = point_segment_distance(
-              V.row(v).transpose(), bones.heads.row(b).transpose(), bones.tails.row(b).transpose());
-          if (d < nearest_d) nearest_d = d, nearest = b;
-        }
-      accessory[c] = !holders[nearest].empty();
-    }
-    Mesh host;
+    const std::vector<char> accessory = accessory_parts(bones, members);
+    Mesh host;  // the faces of every other part
     host.V = V;
     host.F.resize(F.rows(), 3);
     Eigen::Index kept = 0;
@@ -530,7 +503,7 @@ struct BoneHeat::Impl {
           std::ceil(kAttachedFraction * static_cast<double>(near.size())));
       std::partial_sort(near.begin(), near.begin() + count, near.end(),
                         [](const auto& a, const auto& b) { return a.first < b.first; });
-      Eigen::RowVectorXd sum = Eigen::RowVectorXd::Zero(nb);
+      Eigen::RowVectorXd sum = Eigen::RowVectorXd::Zero(W.cols());
       for (std::ptrdiff_t k = 0; k < count; ++k) sum += near[k].second;
       Eigen::Index bone = 0;
       sum.maxCoeff(&bone);
@@ -541,6 +514,42 @@ struct BoneHeat::Impl {
       ++attached;
     }
     return attached;
+  }
+
+  // Per part (members: its vertices), whether attach_accessories moves it rigidly: a closed part
+  // around no point of any bone (kBoneSamples along each), whose nearest bone is around points
+  // of another closed part.
+  std::vector<char> accessory_parts(const Bones& bones,
+                                    const std::vector<std::vector<int>>& members) const {
+    const int nb = static_cast<int>(bones.count());
+    std::vector<std::vector<int>> holders(nb);  // closed parts around some point of each bone
+    tbb::parallel_for(0, nb, [&](int b) {
+      for (int k = 0; k < kBoneSamples; ++k) {
+        const double s = static_cast<double>(k) / (kBoneSamples - 1);
+        const std::vector<int> around = closed_parts_around(
+            ((1 - s) * bones.heads.row(b) + s * bones.tails.row(b)).transpose());
+        holders[b].insert(holders[b].end(), around.begin(), around.end());
+      }
+      std::sort(holders[b].begin(), holders[b].end());
+      holders[b].erase(std::unique(holders[b].begin(), holders[b].end()), holders[b].end());
+    });
+    std::vector<char> holds(component_count, 0);
+    for (const std::vector<int>& parts : holders)
+      for (const int c : parts) holds[c] = 1;
+    std::vector<char> accessory(component_count, 0);
+    for (int c = 0; c < component_count; ++c) {
+      if (!closed_part[c] || holds[c]) continue;
+      int nearest = 0;
+      double nearest_d = std::numeric_limits<double>::infinity();
+      for (const int v : members[c])
+        for (int b = 0; b < nb; ++b) {
+          const double d = point_segment_distance(
+              V.row(v).transpose(), bones.heads.row(b).transpose(), bones.tails.row(b).transpose());
+          if (d < nearest_d) nearest_d = d, nearest = b;
+        }
+      accessory[c] = !holders[nearest].empty();
+    }
+    return accessory;
   }
 
   Eigen::Vector3d face_normal(int f) const {
