@@ -80,6 +80,15 @@ Bones bones_from(std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> list) 
 // A two-bone chain along the capsule's axis, jointed at z = 0.
 Bones chain() { return bones_from({{{0, 0, -1.2}, {0, 0, 0}}, {{0, 0, 0}, {0, 0, 1.2}}}); }
 
+// BoneHeat::nearest_visible_bones of vertex v of m (-1: it sees none).
+int nearest_visible_bone(const Mesh& m, const Bones& bones, Eigen::Index v) {
+  dcg::BoneHeat heat(m);
+  Eigen::VectorXi nearest;
+  Eigen::VectorXd distance;
+  heat.nearest_visible_bones(bones, nearest, distance);
+  return nearest[v];
+}
+
 dcg::Options keep_input() {
   dcg::Options o;
   o.prepare.target_faces = 0;
@@ -207,13 +216,7 @@ TEST(WeightsVisibility, AClosedPartShowsTheBonesItHoldsThroughItsBackFaces) {
   (a.V * out.normalized()).maxCoeff(&p);
   const std::pair<Eigen::Vector3d, Eigen::Vector3d> low = {{0, 0, -0.8}, {0, 0, -0.6}};
   const Eigen::Vector3d inside(0.5, 0, 0), outside(0.5, 0, 2);
-  auto nearest_of_p = [&](const Mesh& m, const Bones& bones) {
-    dcg::BoneHeat heat(m);
-    Eigen::VectorXi nearest;
-    Eigen::VectorXd distance;
-    heat.nearest_visible_bones(bones, nearest, distance);
-    return nearest[p];
-  };
+  auto nearest_of_p = [&](const Mesh& m, const Bones& b) { return nearest_visible_bone(m, b, p); };
   const Bones rising = bones_from({low, {inside, outside}});
   EXPECT_EQ(nearest_of_p(a, rising), 1);
   // Nor does a crack between coincident vertices (the pole split in two: half of its fan uses a
@@ -256,13 +259,7 @@ TEST(WeightsRigs, ALeafThatStopsShortReachesTheFootItPointsAt) {
                             {{0, 0, 1.0}, {0, 0, 0.4}},        // 1 thigh
                             {{0, 0, 0.4}, {0, 0, -0.2}},       // 2 shin, a leaf
                             {{0, 0, -0.8}, {0.2, 0, -1.1}}});  // 3 foot
-  auto nearest_of_p = [&](const Mesh& m, const Bones& b) {
-    dcg::BoneHeat heat(m);
-    Eigen::VectorXi nearest;
-    Eigen::VectorXd distance;
-    heat.nearest_visible_bones(b, nearest, distance);
-    return nearest[p];
-  };
+  auto nearest_of_p = [&](const Mesh& m, const Bones& b) { return nearest_visible_bone(m, b, p); };
   EXPECT_EQ(nearest_of_p(leg, bones), 3) << "no tree given: the shin stops where it ends";
   bones.parents.resize(4);
   bones.parents << -1, 0, 1, 0;
