@@ -267,6 +267,16 @@ TEST(WeightsRigs, ALeafThatStopsShortReachesTheFootItPointsAt) {
   // The weights follow: p binds to the shin.
   dcg::BoneHeat heat(leg);
   EXPECT_GT(heat.solve(bones)(p, 2), 0.5);
+  // Nor when another chain ends where the shin ends (the plan closing a cycle of the skeleton
+  // there): the two leaves meet, and neither reaches on.
+  Bones meeting = bones;
+  meeting.heads.conservativeResize(5, 3);
+  meeting.tails.conservativeResize(5, 3);
+  meeting.parents.conservativeResize(5);
+  meeting.heads.row(4) << -0.2, 0, 0.9;
+  meeting.tails.row(4) << 0, 0, -0.2;
+  meeting.parents[4] = 0;
+  EXPECT_EQ(nearest_of_p(leg, meeting), 3);
   // Not to a head outside its cone (60 degrees): the foot's head off to the side.
   Bones aside = bones;
   aside.heads.row(3) << 0.25, 0, -0.25;
