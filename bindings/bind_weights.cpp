@@ -70,16 +70,16 @@ void bind_bone_heat(py::module_& m) {
       .def(
           "solve",
           [](const H& heat, const dcg::Points& heads, const dcg::Points& tails,
-             const py::dict& options, py::object progress) {
+             const py::dict& options, py::object progress, const py::object& parents) {
             const dcg::WeightsOptions o = options_from_dict(options).weights;
-            const dcg::Bones bones = make_bones(heads, tails);
+            const dcg::Bones bones = make_bones(heads, tails, parents);
             ProgressBridge bridge(std::move(progress));
             return run_released(bridge, [&] {
               return heat.solve(bones, o, nullptr, dcg::Progress(bridge.callback()));
             });
           },
           py::arg("heads"), py::arg("tails"), py::arg("options"), py::arg("progress") = py::none(),
-          "#V x #B weights of the mesh's vertices.")
+          py::arg("parents") = py::none(), "#V x #B weights of the mesh's vertices.")
       .def(
           "nearest_visible_bones",
           [](const H& heat, const dcg::Points& heads, const dcg::Points& tails) {

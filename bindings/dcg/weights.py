@@ -152,13 +152,14 @@ class BoneHeat(_core.BoneHeat):
 
         super().__init__(*as_mesh(V, F))
 
-    def solve(self, bones, tails=None, *,
+    def solve(self, bones, tails=None, *, parents=None,
               progress: Optional[Callable[[str, float], Optional[bool]]] = None,
               **options) -> np.ndarray:
-        """#V x #B weights for `bones` (as skin_weights takes them, in V's coordinates).
+        """#V x #B weights for `bones` (as skin_weights takes them, parents included, in V's
+        coordinates).
 
         options: heat and tie_tolerance (any of dcg.OPTIONS is accepted). The GIL is released
         while it works; progress(stage, fraction) returning False raises dcg.Cancelled.
         """
-        heads, tails, _ = _bones(bones, tails)
-        return super().solve(heads, tails, normalize_options(options), progress)
+        heads, tails, parents = _bones(bones, tails, parents)
+        return super().solve(heads, tails, normalize_options(options), progress, parents)

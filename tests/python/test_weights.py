@@ -455,3 +455,18 @@ def _parts(V, F):
         if np.array_equal(low, label):
             return label[node]
         label = low
+
+
+def test_bone_heat_takes_the_bone_tree_as_skin_weights_does(meshes_dir):
+    # BoneHeat.solve passes parents on: Q_Goblin's ankles go to the shin with the tree (a leaf
+    # reaches the IK foot's head), to the foot without it.
+    V, F, rig, weights = _artist_rig(meshes_dir, "Q_Goblin")
+    heads, tails = metrics.joint_bones(rig.joints, rig.parents)
+    heat = dcg.BoneHeat(V, F)
+    shin = rig.names.index("LowerLeg.L")
+    ankle = (rig.weights[:, shin] > 0.9) & (V[:, 2] < tails[shin, 2])
+    with_tree = heat.solve(heads, tails, parents=rig.parents)
+    assert (with_tree[ankle].argmax(axis=1) == shin).all()
+    assert (weights.dense()[ankle].argmax(axis=1) == shin).all()
+    without = heat.solve(heads, tails)
+    assert (without[ankle].argmax(axis=1) == rig.names.index("Foot.L")).all()
