@@ -517,7 +517,8 @@ def write_report(path, meta, rows, args, command):
     out.append(f"- Our times: fastest of {meta.get('repeat', 1)} run(s) per mesh (fresh "
                "`dcg::Extractor` each), per-stage seconds as the Extractor timed them. MCF: "
                "`CGAL::extract_mean_curvature_flow_skeleton` with default parameters, the median "
-               f"of up to {meta.get('mcf_repeat', 1)} run(s) (while they total under 2 s), "
+               f"of up to {meta.get('mcf_repeat', 1)} run(s) (while they total under "
+               f"{meta.get('mcf_repeat_seconds', 0):g} s), "
                "same process, on the same triangles (exact duplicate points welded only when the "
                "triangles as given are not a closed 2-manifold), closed 2-manifold meshes only. "
                "Ratio = MCF seconds / our total (above 1: we are faster).")
@@ -588,9 +589,9 @@ def main():
     parser.add_argument("--mcf-max-faces", type=int, default=0,
                         help="skip the baseline above this many faces (default 0: no limit)")
     parser.add_argument("--mcf-repeat", type=int, default=3,
-                        help="runs of the baseline per mesh while they total under 2 s, the "
-                             "median is kept (default 3: its time and skeleton change from run "
-                             "to run)")
+                        help="runs of the baseline per mesh while they total under "
+                             "dcg_bench's limit, the median is kept (default 3: its time and "
+                             "skeleton change from run to run)")
     parser.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
                         help="engine option passed to dcg_bench")
     parser.add_argument("--no-stability", action="store_true",

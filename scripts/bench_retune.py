@@ -10,7 +10,6 @@ Each mesh: one full skeleton at the default tau, then rounds of retunes through 
 """
 
 import argparse
-import datetime
 import os
 import platform
 import sys
@@ -29,6 +28,9 @@ RETHRESHOLD_LIMIT_S = 0.050
 LARGE_FACES = 90_000
 SKELETON_LIMIT_S = 0.3
 SKELETON_LIMIT_MESH = "hand.obj"
+COLUMNS = [("mesh", "mesh", ""), ("faces", "faces", "d"), ("full s", "full_s", ".3f"),
+           ("tau", "tau", "g"), ("ends", "ends", "d"), ("re-threshold ms", "rethreshold_ms", ".2f"),
+           ("new skeleton ms", "skeleton_ms", ".1f"), ("limits", "limits", "")]
 
 
 def measure(path, taus, rounds):
@@ -85,25 +87,15 @@ def main(argv=None):
                      "limits": verdicts(path.name, faces, rethreshold, skeleton)}
                     for tau, (rethreshold, skeleton, ends) in best.items()]
         print(f"bench_retune: {path.name} done", file=sys.stderr)
-    rows = [f"| {r['mesh']} | {r['faces']} | {r['full_s']:.3f} | {r['tau']:g} | {r['ends']} "
-            f"| {r['rethreshold_ms']:.2f} | {r['skeleton_ms']:.1f} | {r['limits']} |"
-            for r in records]
-    lines = [
-        "# Live tau: Extractor.retune",
-        "",
-        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, "
-        f"{platform.node()}, {os.cpu_count()} cores, load average "
-        f"{os.getloadavg()[0]:.2f}; `scripts/bench_retune.py`. Full: the first skeleton at the "
-        "default tau; re-threshold: the `retune(tau)` call; new skeleton: from that call to the "
-        f"skeleton at the new tau; fastest of {args.rounds} rounds. Limits (issue 18): the "
-        f"re-threshold at most {1000 * RETHRESHOLD_LIMIT_S:g} ms from {LARGE_FACES:,} faces, "
-        f"the new skeleton at most {SKELETON_LIMIT_S:g} s on {SKELETON_LIMIT_MESH}.",
-        "",
-        "| mesh | faces | full s | tau | ends | re-threshold ms | new skeleton ms | limits |",
-        "|---|---|---|---|---|---|---|---|",
-        *rows,
-        "",
-    ]
+    lines = quality_tables.header("Live tau: Extractor.retune")
+    lines += [f"{platform.node()}, {os.cpu_count()} cores, load average "
+              f"{os.getloadavg()[0]:.2f}; `scripts/bench_retune.py`. Full: the first skeleton at "
+              "the default tau; re-threshold: the `retune(tau)` call; new skeleton: from that call "
+              f"to the skeleton at the new tau; fastest of {args.rounds} rounds. Limits (issue "
+              f"18): the re-threshold at most {1000 * RETHRESHOLD_LIMIT_S:g} ms from "
+              f"{LARGE_FACES:,} faces, the new skeleton at most {SKELETON_LIMIT_S:g} s on "
+              f"{SKELETON_LIMIT_MESH}.", ""]
+    lines += quality_tables.table(COLUMNS, records) + [""]
     quality_tables.write(args.out, lines, records)
     return 0
 

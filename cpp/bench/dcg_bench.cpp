@@ -646,6 +646,7 @@ int main(int argc, char** argv) {
       .str("cgal", dcg::bench::cgal_version())
       .integer("repeat", args.repeat)
       .integer("mcf_repeat", args.mcf_repeat)
+      .num("mcf_repeat_seconds", kMcfRepeatSeconds)
       .boolean("mcf", args.mcf)
       .integer("mcf_max_faces", args.mcf_max_faces)
       .str("repair", dcg::repair_name(args.options.prepare.repair))

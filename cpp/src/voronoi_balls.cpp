@@ -223,6 +223,22 @@ bool first_hit_from_behind(const SurfaceQuery& query, const Eigen::Vector3d& p,
   return std::isfinite(t) && face >= 0 && query.face_normal(face).dot(d) > 0;
 }
 
+// Whether ball `i`'s center c is inside: both of its two rays (golden-angle spiral directions,
+// indexed by ball and ray) first meet a face from behind, or, where a ray meets a face from the
+// front inside the shape because the mesh intersects itself (cow: ears through the head), ray
+// parity, which counts every crossing, says so.
+bool seen_inside(const SurfaceQuery& query, const Eigen::Vector3d& c, Eigen::Index i) {
+  for (int k = 0; k < 2; ++k) {
+    const double j = static_cast<double>(2 * i + k) + 0.5;
+    const double z = 1.0 - 2.0 * std::fmod(j * 0.6180339887498949, 1.0);
+    const double phi = j * 2.399963229728653;
+    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+    if (!first_hit_from_behind(query, c, Eigen::Vector3d(s * std::cos(phi), s * std::sin(phi), z)))
+      return query.inside_by_parity(c);
+  }
+  return true;
+}
+
 // Stage 1 keeps a Voronoi vertex when its signed distance is negative, a sign taken from the
 // nearest face's orientation. Where the working mesh folds through itself (0.3% vertex noise on
 // an octopus's thin tentacles) that sign is wrong near the fold, and circumcenters OUTSIDE the
@@ -241,23 +257,8 @@ Balls drop_balls_outside(Balls balls, const SurfaceQuery& query,
   std::vector<char> keep(static_cast<std::size_t>(n), 1);
   internal::parallel_chunks(n, static_cast<Eigen::Index>(internal::per_thread(1024)),
                             Eigen::Index{256}, at, [&](const tbb::blocked_range<Eigen::Index>& r) {
-                              for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
-                                const Eigen::Vector3d c = balls.centers.row(i).transpose();
-                                for (int k = 0; k < 2 && keep[i]; ++k) {
-                                  // Golden-angle spiral directions, indexed by ball and ray.
-                                  const double j = static_cast<double>(2 * i + k) + 0.5;
-                                  const double z =
-                                      1.0 - 2.0 * std::fmod(j * 0.6180339887498949, 1.0);
-                                  const double phi = j * 2.399963229728653;
-                                  const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-                                  const Eigen::Vector3d d(s * std::cos(phi), s * std::sin(phi), z);
-                                  keep[i] = first_hit_from_behind(query, c, d);
-                                }
-                                // A ray may also meet a face from the front inside the shape where
-                                // the mesh intersects itself (cow: ears through the head): ray
-                                // parity, which counts every crossing, has the last word.
-                                if (!keep[i]) keep[i] = query.inside_by_parity(c) ? 1 : 0;
-                              }
+                              for (Eigen::Index i = r.begin(); i != r.end(); ++i)
+                                keep[i] = seen_inside(query, balls.centers.row(i).transpose(), i);
                             });
   Eigen::Index m = 0;
   for (Eigen::Index i = 0; i < n; ++i) {

@@ -399,10 +399,11 @@ struct BoneHeat::Impl {
     return !internal::occluded(scene, a - center.transpose(), d / length, margin, length - margin);
   }
 
-  // The bones as the heat sees them: with their reaching_tails.
-  Bones heat_bones(const Bones& bones) const {
+  // The bones as the heat sees them: with their reaching_tails. head_parts: head_parts_of(bones)
+  // (the same for both: the heads do not move).
+  Bones heat_bones(const Bones& bones, const std::vector<std::vector<int>>& head_parts) const {
     Bones heat = bones;
-    heat.tails = reaching_tails(bones);
+    heat.tails = reaching_tails(bones, head_parts);
     return heat;
   }
 
@@ -421,7 +422,7 @@ struct BoneHeat::Impl {
   // a leaf that ends at a prong, and the two leaves where the plan closes a cycle of the
   // skeleton end at each other's tails (checked: the add-on's weights on the 32 public and rigged
   // meshes change, beyond 1e-12, only on the parts attach_accessories makes rigid).
-  Points reaching_tails(const Bones& bones) const {
+  Points reaching_tails(const Bones& bones, const std::vector<std::vector<int>>& head_parts) const {
     if (bones.parents.size() == 0) return bones.tails;
     const Eigen::VectorXi& parents = bones.parents;
     const int nb = static_cast<int>(bones.count());
@@ -435,7 +436,7 @@ struct BoneHeat::Impl {
       const Eigen::Vector3d head = bones.heads.row(b).transpose();
       const Eigen::Vector3d axis = bones.tails.row(b).transpose() - head;
       const double length = axis.norm();
-      if (has_child[b] || !(length > 0) || closed_parts_around(head).empty()) continue;
+      if (has_child[b] || !(length > 0) || head_parts[b].empty()) continue;
       std::fill(chain.begin(), chain.end(), 0);
       for (int j = b, steps = 0; j >= 0 && steps <= nb; j = parents[j], ++steps) chain[j] = 1;
       double nearest = kLeafReach * length;
@@ -470,13 +471,14 @@ struct BoneHeat::Impl {
   // weights): Q_Male_Casual 0.465 -> 0.416% (6 parts: eyes and brows), Q_Spider 1.276 ->
   // 0.766% (4: fangs); Q_Frog's and Q_Wasp's eyes are left as they were (their bodies are not
   // closed parts, so no part holds the bones), the rest have no such parts.
-  int attach_accessories(const Bones& bones, Eigen::MatrixXd& W) const {
+  int attach_accessories(const Bones& bones, const std::vector<std::vector<int>>& head_parts,
+                         Eigen::MatrixXd& W) const {
     if (component_count < 2 ||
         std::find(closed_part.begin(), closed_part.end(), 1) == closed_part.end())
       return 0;
     std::vector<std::vector<int>> members(component_count);
     for (int v = 0; v < V.rows(); ++v) members[component[v]].push_back(v);
-    const std::vector<char> accessory = accessory_parts(bones, members);
+    const std::vector<char> accessory = accessory_parts(bones, head_parts, members);
     Mesh host;  // the faces of every other part
     host.V = V;
     host.F.resize(F.rows(), 3);
@@ -517,14 +519,15 @@ struct BoneHeat::Impl {
   }
 
   // Per part (members: its vertices), whether attach_accessories moves it rigidly: a closed part
-  // around no point of any bone (kBoneSamples along each), whose nearest bone is around points
-  // of another closed part.
+  // around no point of any bone (kBoneSamples along each; the heads' parts are head_parts),
+  // whose nearest bone is around points of another closed part.
   std::vector<char> accessory_parts(const Bones& bones,
+                                    const std::vector<std::vector<int>>& head_parts,
                                     const std::vector<std::vector<int>>& members) const {
     const int nb = static_cast<int>(bones.count());
-    std::vector<std::vector<int>> holders(nb);  // closed parts around some point of each bone
+    std::vector<std::vector<int>> holders(head_parts);  // closed parts around points of each bone
     tbb::parallel_for(0, nb, [&](int b) {
-      for (int k = 0; k < kBoneSamples; ++k) {
+      for (int k = 1; k < kBoneSamples; ++k) {
         const double s = static_cast<double>(k) / (kBoneSamples - 1);
         const std::vector<int> around = closed_parts_around(
             ((1 - s) * bones.heads.row(b) + s * bones.tails.row(b)).transpose());
@@ -723,9 +726,9 @@ void BoneHeat::nearest_visible_bones(const Bones& bones, Eigen::VectorXi& bone,
   std::vector<int> all(nv);
   std::iota(all.begin(), all.end(), 0);
   std::vector<Source> sources(nv);
-  const Bones heat = impl_->heat_bones(bones);
-  impl_->find_sources(heat, impl_->head_parts_of(heat), 0.0, all, SourceRule::NearestVisible,
-                      sources);
+  const std::vector<std::vector<int>> head_parts = impl_->head_parts_of(bones);
+  impl_->find_sources(impl_->heat_bones(bones, head_parts), head_parts, 0.0, all,
+                      SourceRule::NearestVisible, sources);
   bone.resize(nv);
   distance.resize(nv);
   for (int v = 0; v < nv; ++v) {
@@ -752,8 +755,8 @@ Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& option
   // unweighted).
   auto start = Clock::now();
   std::vector<Source> sources(nv);
-  const Bones heat = m.heat_bones(bones);
-  const std::vector<std::vector<int>> head_parts = m.head_parts_of(heat);
+  const std::vector<std::vector<int>> head_parts = m.head_parts_of(bones);
+  const Bones heat = m.heat_bones(bones, head_parts);
   for (const SourceRule rule :
        {SourceRule::NearestIfVisible, SourceRule::NearestVisible, SourceRule::Nearest}) {
     std::vector<char> has_source(m.component_count, 0);
@@ -828,7 +831,7 @@ Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& option
   W = W.cwiseMax(0.0).cwiseMin(1.0);
   rep.timings.emplace_back("solve", seconds_since(start));
   start = Clock::now();
-  rep.rigid_parts = m.attach_accessories(bones, W);
+  rep.rigid_parts = m.attach_accessories(bones, head_parts, W);
   rep.timings.emplace_back("accessories", seconds_since(start));
   return W;
 }
