@@ -59,8 +59,8 @@ extension: wheel
 	@$(PYTHON) scripts/make_extension.py --addon addon/dcg_rig --wheels $(OUT)/wheels \
 	  --out-dir $(OUT) --license LICENSE
 
-# The libFuzzer targets (tests/fuzz/: mesh readers, stage 0) for FUZZ_SECONDS in all, built with
-# clang in build-fuzz/; `make test` runs them for 60 s. Crashing inputs: build-fuzz/artifacts/.
+# The libFuzzer targets (tests/fuzz/: mesh readers, stage 0, the whole engine) for FUZZ_SECONDS
+# in all, built with clang in build-fuzz/; `make test` runs them for 90 s. Crashing inputs: build-fuzz/artifacts/.
 FUZZ_SECONDS ?= 600
 fuzz: deps
 	@FUZZ_KEEP_CORPUS=1 bash scripts/run-fuzz.sh $(FUZZ_SECONDS) $(BUILD)/test-results/fuzz-long.xml

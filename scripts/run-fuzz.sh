@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (tests/fuzz/) in build-fuzz/ with clang and runs each for a share
-# of SECONDS (default 60 in all), after replaying the regression inputs of tests/fuzz/corpus/.
+# Builds the libFuzzer targets (tests/fuzz/: read_mesh, prepare, pipeline) in build-fuzz/ with
+# clang and runs each for a share of SECONDS (default 90 in all), after replaying the regression
+# inputs of tests/fuzz/corpus/.
 # Writes JUnit XML (suite "fuzz", one test per target; pass = no crash, no sanitizer report,
 # no timeout) to $2 when given. Without clang the suite is reported as skipped, with a note.
 #   scripts/run-fuzz.sh [SECONDS] [RESULTS_XML]
@@ -8,11 +9,11 @@
 # only with FUZZ_KEEP_CORPUS=1, as `make fuzz` does); a crashing input is saved as build-fuzz/artifacts/<target>/crash-*: once fixed, copy it
 # into tests/fuzz/corpus/<target>/ so that every later run replays it.
 set -uo pipefail
-SECONDS_TOTAL=${1:-60}
+SECONDS_TOTAL=${1:-90}
 XML=${2:-}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${FUZZ_BUILD:-$ROOT/build-fuzz}
-TARGETS=(read_mesh prepare)
+TARGETS=(read_mesh prepare pipeline)
 cd "$ROOT"
 
 xml_escape() { sed -e 's/&/\&amp;/g' -e 's/</\&lt;/g' -e 's/>/\&gt;/g' -e 's/"/\&quot;/g' \
@@ -78,7 +79,7 @@ for t in "${TARGETS[@]}"; do
   log=$BUILD/fuzz_$t.log
   start=$(date +%s)
   # The first folder receives new inputs; the second (the repository's regression and seed
-  # inputs) is read and replayed first. -timeout: one input may take at most 20 s.
+  # inputs) is read and replayed first.
   # Short runs (make test, CI) are reproducible: a fixed seed and a fixed number of inputs per
   # target (about half the time budget on a quiet 2-core machine), so that every machine tries
   # the same inputs in the same order and a CI failure replays locally; the time limit is only
@@ -94,10 +95,15 @@ for t in "${TARGETS[@]}"; do
     case $t in
       read_mesh) seed_flag+=(-runs=$(( per_target * 4000 ))) ;;
       prepare) seed_flag+=(-runs=$(( per_target * 100 ))) ;;
+      pipeline) seed_flag+=(-runs=$(( per_target * 8 ))) ;;
     esac
   fi
+  # -timeout: one input may take at most 20 s, 60 s for the whole engine (a 4-face sliver takes
+  # 1 s in stage 0's wrap in a release build, 10-20 s under the sanitizers; a hang takes forever).
+  timeout=20
+  [ "$t" = pipeline ] && timeout=60
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
-    "$BUILD/fuzz_$t" "${seed_flag[@]}" -max_total_time="$per_target" -timeout=20 -rss_limit_mb=3072 \
+    "$BUILD/fuzz_$t" "${seed_flag[@]}" -max_total_time="$per_target" -timeout="$timeout" -rss_limit_mb=3072 \
     -max_len=4096 -print_final_stats=1 -artifact_prefix="$artifacts/" \
     "$corpus" "tests/fuzz/corpus/$t" > "$log" 2>&1
   rc=$?

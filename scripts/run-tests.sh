@@ -56,12 +56,12 @@ else
   echo "== C++ tests under ASan + UBSan: skipped (SANITIZE=0)"
 fi
 
-# libFuzzer on the mesh readers and stage 0 (clang, build-fuzz/ beside $BUILD) for FUZZ_SECONDS
-# (60) in all, after replaying the regression inputs of tests/fuzz/corpus/; suite `fuzz` (pass =
+# libFuzzer on the mesh readers, stage 0 and the whole engine (clang, build-fuzz/ beside $BUILD)
+# for FUZZ_SECONDS (90) in all, after replaying the regression inputs of tests/fuzz/corpus/; suite `fuzz` (pass =
 # no crash). Reported as skipped when clang is missing; FUZZ=0 leaves it out.
 if [ "${FUZZ:-1}" != 0 ]; then
-  header "Fuzzing (libFuzzer, ${FUZZ_SECONDS:-60} s, after its build)"
-  FUZZ_BUILD="$BUILD-fuzz" bash scripts/run-fuzz.sh "${FUZZ_SECONDS:-60}" "$RESULTS/fuzz.xml"
+  header "Fuzzing (libFuzzer, ${FUZZ_SECONDS:-90} s, after its build)"
+  FUZZ_BUILD="$BUILD-fuzz" bash scripts/run-fuzz.sh "${FUZZ_SECONDS:-90}" "$RESULTS/fuzz.xml"
   SUMMARY_FILES+=("$RESULTS/fuzz.xml")
 else
   echo "== Fuzzing: skipped (FUZZ=0)"

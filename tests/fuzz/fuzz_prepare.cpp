@@ -3,65 +3,18 @@
 // it is; later stages only see its closed, normalized working mesh. Expected failures are
 // dcg::InputError; anything else (a crash, a sanitizer report, another exception) is a finding.
 //
-// Byte layout: [flags] [#V] [#F] then #V x 3 coordinate bytes and #F x 3 index bytes (missing
-// bytes read as 0). A coordinate byte is a grid value in [-4, 4] or, for a few byte values, a
-// special number (NaN, inf, huge, tiny) so that degenerate and non-finite input is reached.
-// An index byte maps to [-1, #V], one past either end, to reach the range checks.
-#include <cmath>
-#include <cstddef>
-#include <cstdint>
-#include <limits>
-
+// Byte layout: tests/fuzz/fuzz_mesh.h.
 #include "dcg/errors.h"
 #include "dcg/prepare.h"
-
-namespace {
-
-struct Reader {
-  const std::uint8_t* data;
-  std::size_t size;
-  std::size_t at = 0;
-  std::uint8_t next() { return at < size ? data[at++] : 0; }
-};
-
-double coordinate(std::uint8_t b) {
-  switch (b) {
-    case 255:
-      return std::numeric_limits<double>::quiet_NaN();
-    case 254:
-      return std::numeric_limits<double>::infinity();
-    case 253:
-      return -std::numeric_limits<double>::infinity();
-    case 252:
-      return 1e300;
-    case 251:
-      return -1e300;
-    case 250:
-      return 1e-300;
-    case 249:
-      return 1e6;
-    case 248:
-      return 1e-6;
-    default:
-      return (static_cast<int>(b % 81) - 40) / 10.0;
-  }
-}
-
-}  // namespace
+#include "fuzz_mesh.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  Reader in{data, size};
-  const std::uint8_t flags = in.next();
-  const int nv = in.next() % 33;  // up to 32 vertices and 64 faces: stage 0 stays fast
-  const int nf = in.next() % 65;
-  dcg::Vertices V(nv, 3);
-  for (int i = 0; i < nv; ++i) {
-    for (int k = 0; k < 3; ++k) V(i, k) = coordinate(in.next());
-  }
-  dcg::Faces F(nf, 3);
-  for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 3; ++k) F(f, k) = static_cast<int>(in.next() % (nv + 2)) - 1;
-  }
+  dcg_fuzz::Reader in{data, size};
+  const dcg_fuzz::FuzzMesh mesh = dcg_fuzz::read_mesh(in);
+  const std::uint8_t flags = mesh.flags;
+  const dcg::Vertices& V = mesh.V;
+  const dcg::Faces& F = mesh.F;
+  const Eigen::Index nv = V.rows();
   dcg::PrepareOptions options;
   options.repair = (flags & 1) ? dcg::Repair::None : dcg::Repair::Auto;
   options.target_faces = (flags & 2) ? 0 : 64 + 32 * ((flags >> 2) & 7);
