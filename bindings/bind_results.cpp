@@ -50,7 +50,7 @@ py::object to_python(const dcg::MeshReport& report, py::handle owner) {
 
 py::object to_python(const std::vector<dcg::Peak>& peaks, py::handle) {
   const auto n = static_cast<Eigen::Index>(peaks.size());
-  Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> vertex(n);
+  Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> vertex(n), valley_vertex(n), partner(n);
   Eigen::VectorXd value(n), valley(n), ratio(n);
   Eigen::Matrix<bool, Eigen::Dynamic, 1> global(n);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -60,6 +60,8 @@ py::object to_python(const std::vector<dcg::Peak>& peaks, py::handle) {
     valley[i] = peak.valley;
     ratio[i] = peak.ratio;
     global[i] = peak.global;
+    valley_vertex[i] = peak.valley_vertex;
+    partner[i] = peak.partner;
   }
   py::dict d;
   d["vertices"] = vertex;
@@ -67,6 +69,8 @@ py::object to_python(const std::vector<dcg::Peak>& peaks, py::handle) {
   d["valleys"] = valley;
   d["ratios"] = ratio;
   d["global"] = global;
+  d["valley_vertices"] = valley_vertex;
+  d["partners"] = partner;
   return std::move(d);
 }
 
@@ -135,6 +139,7 @@ void bind_prongs(py::module_& m) {
       .field("vertices", &ProngsView::vertices)
       .field("positions", &ProngsView::positions)
       .field("significance", &ProngsView::significance)
+      .field("mirror_twins", &ProngsView::mirror_twins)
       .field("scale_function", &ProngsView::features, &F::scale, &dcg::ScaleFunction::values)
       .field("sources", &ProngsView::features, &F::scale, &dcg::ScaleFunction::sources)
       .field("source_weights", &ProngsView::features, &F::scale, &dcg::ScaleFunction::weights)

@@ -409,6 +409,8 @@ ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f, const
       Peak& p = peaks_[peak_of[r]];
       p.valley = f[v];
       p.ratio = p.value > 0 ? f[v] / p.value : 1.0;
+      p.valley_vertex = v;
+      p.partner = peaks_[peak_of[best]].vertex;
       parent[r] = best;
     }
     parent[v] = best;
@@ -420,6 +422,7 @@ ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f, const
     Peak& p = peaks_[peak_of[v]];
     p.global = true;
     p.valley = f[lowest[v]];
+    p.valley_vertex = lowest[v];
     p.ratio = p.value > 0 ? p.valley / p.value : 1.0;
   }
   std::sort(peaks_.begin(), peaks_.end(), [&](const Peak& a, const Peak& b) {
@@ -500,6 +503,54 @@ bool ProngHierarchy::cap_is_disk(int peak_vertex, double tau) const {
   return loops == 1;
 }
 
+double ProngHierarchy::geodesic(int from, int to) const {
+  std::vector<double> dist(f_.size(), kInf);
+  std::vector<HeapItem> heap = {{0.0, from}};
+  const auto greater = std::greater<HeapItem>();
+  dist[from] = 0;
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), greater);
+    const auto [d, u] = heap.back();
+    heap.pop_back();
+    if (u == to) return d;
+    if (d > dist[u]) continue;
+    for (int e = adjacency_start_[u]; e < adjacency_start_[u + 1]; ++e) {
+      const int v = adjacency_[e];
+      const double nd = d + (mesh_.V.row(u) - mesh_.V.row(v)).norm();
+      if (nd < dist[v]) {
+        dist[v] = nd;
+        heap.emplace_back(nd, v);
+        std::push_heap(heap.begin(), heap.end(), greater);
+      }
+    }
+  }
+  return kInf;
+}
+
+bool ProngHierarchy::mirrors_mesh(int a, int b) const {
+  const Eigen::Vector3d pa = mesh_.V.row(a), pb = mesh_.V.row(b);
+  if ((pa - pb).norm() == 0) return false;
+  const Eigen::Vector3d normal = (pa - pb).normalized();
+  const double offset = normal.dot(pa + pb) / 2;
+  const Eigen::Index n = mesh_.V.rows();
+  const Eigen::Index step = std::max<Eigen::Index>(1, n / 1000);  // about 1000 samples
+  double sum = 0;
+  Eigen::Index samples = 0;
+  for (Eigen::Index i = 0; i < n; i += step, ++samples) {
+    const Eigen::RowVector3d p = mesh_.V.row(i);
+    const Eigen::RowVector3d mirrored = p - 2 * (p.dot(normal) - offset) * normal.transpose();
+    sum += std::sqrt((mesh_.V.rowwise() - mirrored).rowwise().squaredNorm().minCoeff());
+  }
+  const double diagonal = (mesh_.V.colwise().maxCoeff() - mesh_.V.colwise().minCoeff()).norm();
+  return sum / static_cast<double>(samples) <= kTwinMirror * diagonal;
+}
+
+bool ProngHierarchy::is_mirror_twin(const Peak& twin, const Peak& partner) const {
+  if (std::abs(twin.value - partner.value) > kTwinValue * partner.value) return false;
+  if (geodesic(twin.vertex, twin.valley_vertex) < kTwinLength * f_.mean()) return false;
+  return mirrors_mesh(twin.vertex, partner.vertex);
+}
+
 Prongs ProngHierarchy::prongs(double tau) const {
   check_option("tau", tau);
   std::vector<const Peak*> kept;
@@ -508,8 +559,19 @@ Prongs ProngHierarchy::prongs(double tau) const {
     if (p.global && !cap_is_disk(p.vertex, tau)) continue;
     kept.push_back(&p);
   }
+  // Mirror twins of the prongs (see the class comment): peaks past tau whose partner is kept.
+  std::vector<const Peak*> twins;
+  for (const Peak& q : peaks_) {
+    if (!(q.ratio < kTwinRatio)) break;
+    if (q.ratio < tau || q.global) continue;
+    const auto partner = std::find_if(kept.begin(), kept.end(),
+                                      [&](const Peak* p) { return p->vertex == q.partner; });
+    if (partner != kept.end() && is_mirror_twin(q, **partner)) twins.push_back(&q);
+  }
+  kept.insert(kept.end(), twins.begin(), twins.end());  // still sorted by ratio
   Prongs out;
   out.tau = tau;
+  out.mirror_twins = static_cast<int>(twins.size());
   const auto k = static_cast<Eigen::Index>(kept.size());
   out.vertices.resize(k);
   out.positions.resize(k, 3);

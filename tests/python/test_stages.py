@@ -86,8 +86,18 @@ def test_prongs_of_an_ellipsoid_and_rethresholding(ellipsoid):
     assert len(p.sources) == ex.options["geodesic_sources"]
     assert p.source_weights.sum() > 0
     peaks = p.peaks
-    assert set(peaks) == {"vertices", "values", "valleys", "ratios", "global"}
+    assert set(peaks) == {"vertices", "values", "valleys", "ratios", "global", "valley_vertices",
+                          "partners"}
     assert peaks["global"].sum() == 1 and (np.diff(peaks["ratios"]) >= 0).all()
+    # Each peak's region ended at its valley vertex, in the region of a higher peak (its
+    # partner); the global maximum has none.
+    f = p.scale_function
+    np.testing.assert_allclose(f[peaks["valley_vertices"]], peaks["valleys"])
+    assert (peaks["partners"][peaks["global"]] == -1).all()
+    partners = peaks["partners"][~peaks["global"]]
+    assert np.isin(partners, peaks["vertices"]).all()
+    assert (f[partners] >= peaks["values"][~peaks["global"]]).all()
+    assert p.mirror_twins == 0  # both ends are prongs on their own
     # Re-thresholding keeps the kept geodesics: prongs(tau) runs no stage again.
     before = list(ex.timings)
     assert len(ex.prongs(tau=0.5).vertices) == 0

@@ -66,6 +66,8 @@ struct Peak {
   double valley = 0;    ///< f where its region met a region with a higher peak, s (global: min f)
   double ratio = 1;     ///< s / p: the significance (lower = stronger)
   bool global = false;  ///< the global maximum (also needs a disk-shaped cap to be a prong)
+  int valley_vertex = -1;  ///< the vertex where its region ended (global: the lowest vertex)
+  int partner = -1;        ///< the peak vertex of the region it ended in (-1 for a global maximum)
 };
 
 /// Prongs at one tau, strongest first.
@@ -74,9 +76,21 @@ struct Prongs {
   Eigen::VectorXi vertices;      ///< #P peak vertices in the mesh
   Points positions;              ///< #P by 3 peak positions (the mesh's units)
   Eigen::VectorXd significance;  ///< #P ratios valley / peak, increasing
+  /// Of those, prongs kept as the mirror twin of a prong (ratio >= tau; see ProngHierarchy).
+  int mirror_twins = 0;
 };
 
 /// The watershed of f, done once: every peak with its ratio. Re-thresholding is cheap.
+///
+/// Mirror twins: two limbs that mirror each other and stand close (a cow's hind legs) meet high
+/// up, at the crotch, so the weaker one ends there with a ratio near 1 and only one of them
+/// would be a prong, leaving the skeleton lopsided. A peak is also a prong, at any tau, when its
+/// region ended in a prong's region (its partner) and it is that prong's mirror image: f within
+/// kTwinValue of the partner's, its ratio below kTwinRatio, the plane halfway between the two
+/// peaks a mirror plane of the whole mesh (mean distance from the mirrored vertices to the
+/// mesh at most kTwinMirror of its bounding-box diagonal), and it is a limb, not a feature on
+/// one (an ear beside an ear): its geodesic distance to the crotch at least kTwinLength times
+/// the mean of f (f being the mean geodesic distance, that is the shape's own size).
 class ProngHierarchy {
  public:
   ProngHierarchy() = default;
@@ -89,11 +103,19 @@ class ProngHierarchy {
   const std::vector<Peak>& peaks() const { return peaks_; }
   /// The prongs at smoothness ratio tau (0 < tau <= 1).
   Prongs prongs(double tau) const;
+
+  static constexpr double kTwinValue = 0.05;
+  static constexpr double kTwinRatio = 0.9;
+  static constexpr double kTwinMirror = 0.02;
+  static constexpr double kTwinLength = 0.35;
   /// True when the cap {f >= tau * max f} around the global maximum has one boundary loop.
   bool global_cap_is_disk(double tau) const;
 
  private:
   bool cap_is_disk(int peak_vertex, double tau) const;
+  bool is_mirror_twin(const Peak& twin, const Peak& partner) const;
+  bool mirrors_mesh(int a, int b) const;    // the plane halfway between a and b mirrors it
+  double geodesic(int from, int to) const;  // along the edges (Dijkstra, stops at `to`)
 
   Mesh mesh_;
   Eigen::VectorXd f_;
