@@ -250,7 +250,9 @@ void bind_skeleton(py::module_& m) {
       .field("input_faces", &S::input_faces)
       .field("genus", &S::genus)
       .field("repaired", &S::repaired)
-      .field("method", &S::method);
+      .field("method", &S::method)
+      .field("mirror_plane", &S::mirror_plane)
+      .field("mirror_error", &S::mirror_error);
 }
 
 }  // namespace

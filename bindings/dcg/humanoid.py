@@ -83,7 +83,9 @@ SIDE_NAMES = {"L": "Left", "R": "Right"}
 #: diagonals of the skeleton's nodes: a pose or a scan is not exactly symmetric).
 PAIR_TOLERANCE = 0.1
 #: Upright: the cosine between the pelvis's directions to the head and to the feet is below
-#: minus this (a quadruped's legs stand across its spine: about 0).
+#: minus this (a quadruped's legs stand across its spine: about 0), and so is the cosine between
+#: the directions from between the hands to the head and to between the feet (the humanoids
+#: of the bench -0.81 to -1.00; spot, whose four legs leave one joint, -0.18).
 UPRIGHT = 0.5
 
 
@@ -185,9 +187,16 @@ def find_humanoid(skeleton):
     chest = chests.pop() if len(chests) == 1 else None
     if chest is None or to[foot_l].index(chest) > to[foot_l].index(pelvis):
         return None  # the arms leave the body at two places, or below the legs
-    # Upright: the legs go on from the trunk, away from the head (a quadruped's stand across).
+    # Upright: the legs go on from the trunk, away from the head (a quadruped's stand across),
+    # and seen from between the hands, the head and the feet lie on opposite sides (a
+    # quadruped's four legs may leave one joint of the trunk, which the legs then leave away
+    # from the head, as spot's do: its front feet stand below its head, between it and no one).
     up = _direction(positions, pelvis, [head])
     if float(up @ _direction(positions, pelvis, [foot_l, foot_r])) > -UPRIGHT:
+        return None
+    hands = positions[[hand_l, hand_r]].mean(axis=0)
+    to_head, to_feet = positions[head] - hands, positions[[foot_l, foot_r]].mean(axis=0) - hands
+    if float(to_head @ to_feet) > -UPRIGHT * np.linalg.norm(to_head) * np.linalg.norm(to_feet):
         return None
     return Humanoid(head, chest, pelvis, {"L": hand_l, "R": hand_r},
                     {"L": foot_l, "R": foot_r})

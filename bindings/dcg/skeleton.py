@@ -68,6 +68,8 @@ class _SkeletonMethods:
             ],
             "root": self.root,
             "timings": dict(self.timings),
+            "mirror": {"plane": [float(x) for x in self.mirror_plane],
+                       "error": float(self.mirror_error)},
         }
 
     def to_json(self, indent: int | None = None) -> str:
@@ -96,6 +98,9 @@ class _SkeletonMethods:
             input_vertices=int(doc["mesh"]["vertices"]),
             input_faces=int(doc["mesh"]["faces"]),
             options=dict(doc.get("options", {})),
+            # Documents written before the mirror plane was kept have none (error 1).
+            mirror_plane=np.array(doc.get("mirror", {}).get("plane", [0.0] * 4), dtype=np.float64),
+            mirror_error=float(doc.get("mirror", {}).get("error", 1.0)),
         )
 
     @classmethod

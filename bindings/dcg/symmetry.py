@@ -26,6 +26,10 @@ import numpy as np
 #: A mirror plane is accepted when the skeleton's nodes mirrored across it lie this close to
 #: nodes (mean, in bounding-box diagonals); limbs' sides and pairs use the same tolerance.
 MIRROR_TOLERANCE = 0.03
+#: The shape's own mirror plane stands in for the nodes' when the surface mirrors itself across
+#: it this closely (mean, in bounding-box diagonals): spot 0.0007, cow 0.0002; a scan in a pose
+#: (armadillo 0.011) or a posed horse (0.03) is left to its nodes.
+SHAPE_TOLERANCE = 0.005
 #: The farthest a joint moves to meet its mirror image or the plane, in skeleton radii at the
 #: joint (the radius is the distance to the surface: below 1 the joint stays inside the mesh).
 MIRROR_REACH = 0.9
@@ -112,15 +116,32 @@ def _tolerance(positions):
 
 def skeleton_plane(skeleton):
     """The skeleton's mirror plane (a Plane) when it has one: `mirror_plane` of its nodes with
-    an error of at most MIRROR_TOLERANCE, the root within that tolerance of it; else None."""
+    an error of at most MIRROR_TOLERANCE, else the shape's own plane (`shape_plane`), the root
+    within MIRROR_TOLERANCE of it; else None."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    found = mirror_plane(positions)
-    if found is None or found[2] > MIRROR_TOLERANCE or not 0 <= skeleton.root < len(positions):
+    if not 0 <= skeleton.root < len(positions):
         return None
-    plane = Plane(np.asarray(found[0], dtype=float), float(found[1]), float(found[2]))
-    if abs(plane.signed(positions[skeleton.root])) > _tolerance(positions):
+    found = mirror_plane(positions)
+    if found is not None and found[2] <= MIRROR_TOLERANCE:
+        plane = Plane(np.asarray(found[0], dtype=float), float(found[1]), float(found[2]))
+    else:
+        plane = shape_plane(skeleton)
+    if plane is None or abs(plane.signed(positions[skeleton.root])) > _tolerance(positions):
         return None
     return plane
+
+
+def shape_plane(skeleton):
+    """The mirror plane of the shape itself (the engine's Skeleton.mirror_plane, found on the
+    surface: cpp/include/dcg/symmetry.h) when the shape mirrors itself across it within
+    SHAPE_TOLERANCE, else None. An exactly symmetric shape can have a skeleton that is not (an
+    end point on one of two horns, end balls placed a little differently on either side, as
+    spot's): its limbs then pair across this plane instead of the nodes'."""
+    error = float(getattr(skeleton, "mirror_error", 1.0))
+    normal = np.asarray(getattr(skeleton, "mirror_plane", np.zeros(4)), dtype=float)[:3]
+    if error > SHAPE_TOLERANCE or not np.isclose(np.linalg.norm(normal), 1.0):
+        return None
+    return Plane(normal, float(skeleton.mirror_plane[3]), error)
 
 
 def limb_sides(skeleton, limb_points, limb_ends=None):

@@ -270,8 +270,21 @@ const Remapped& Extractor::remap() {
   return *remapped_;
 }
 
+const MirrorPlane& Extractor::mirror_plane() {
+  if (!mirror_) {
+    const double t0 = now_seconds();
+    mirror_ = find_mirror_plane(prepare().working, query());
+    timed("symmetry", now_seconds() - t0);
+  }
+  return *mirror_;
+}
+
 void Extractor::finish(Skeleton& s) {
   skeleton_to_input(s, *prepared_, F_, V_.rows());
+  // The plane n . w = o of the working mesh is n . x = o scale + n . offset in the input's.
+  const MirrorPlane& m = mirror_plane();
+  s.mirror_plane << m.normal, m.offset * prepared_->scale + prepared_->offset.dot(m.normal);
+  s.mirror_error = m.error;
   s.timings = timings_;
   double total = 0;
   for (const auto& t : timings_) total += t.second;

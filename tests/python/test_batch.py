@@ -212,8 +212,12 @@ def test_the_npz_holds_the_bones_the_addon_makes(repo, bone_detail):
             assert parent < b
             if parent >= 0:
                 assert np.allclose(npz["bone_heads"][b], npz["bone_tails"][parent])
+        # The roots at the root node, moved onto the mirror plane (spot mirrors itself) by at
+        # most MIRROR_REACH of its radius.
         roots = npz["bone_heads"][npz["bone_parents"] < 0]
-        assert np.allclose(roots, skeleton.positions[skeleton.root])
+        assert np.allclose(roots, roots[0])
+        reach = dcg.bones.symmetry.MIRROR_REACH * skeleton.radii[skeleton.root]
+        assert np.linalg.norm(roots[0] - skeleton.positions[skeleton.root]) <= reach
         assert set(npz["bone_links"].tolist()) <= set(range(len(skeleton.links)))
 
 

@@ -1,11 +1,14 @@
 """dcg.bones: the one bone planner (the add-on's armature, the batch's .weights.npz and
 dcg.skin_weights of a skeleton), on hand-made skeletons whose plan is known."""
 
+import dataclasses
 import types
 
 import numpy as np
 import pytest
 
+import dcg
+from conftest import shared_skeleton
 from dcg import bones
 
 
@@ -348,6 +351,33 @@ def test_an_asymmetric_skeleton_is_rigged_as_it_is(no_inset):
     for spec in plan:  # every joint is a node of the skeleton, where it was
         for point in (spec.head, spec.tail):
             assert np.min(np.linalg.norm(skeleton.positions - point, axis=1)) < 1e-12
+
+
+def test_an_exactly_symmetric_shape_pairs_its_limbs_across_its_own_plane(meshes_dir):
+    """Spot mirrors itself across x = 0, but its skeleton's nodes do not (the head's end on one
+    horn, the hooves' end balls a little apart): its legs pair across the shape's own plane
+    (Skeleton.mirror_plane) and come out exactly mirrored; a skeleton without that plane (an
+    older document's) keeps its nodes' verdict."""
+    V, F = dcg.load_mesh(meshes_dir / "spot.obj")
+    skeleton = shared_skeleton(V, F, "spot.obj")
+    nodes = bones.mirror_plane(skeleton.positions)
+    assert nodes[2] > bones.symmetry.MIRROR_TOLERANCE  # no plane of the nodes
+    assert skeleton.mirror_error < bones.symmetry.SHAPE_TOLERANCE / 10
+    assert abs(skeleton.mirror_plane[0]) > 0.999 and abs(skeleton.mirror_plane[3]) < 1e-3
+    plan = bones.plan_bones(skeleton)
+    pairs = mirror_partners(plan)
+    hooves = [(left, right) for left, right in pairs if left.kind == "end"]
+    assert len(hooves) == 2  # four legs, in two pairs; the head's end stays in the middle
+    plane = bones.plan_plane(skeleton)
+    for left, right in pairs:
+        assert np.allclose(plane.reflect(left.head), right.head, atol=1e-9)
+        assert np.allclose(plane.reflect(left.tail), right.tail, atol=1e-9)
+        assert plane.signed(left.tail) > 0 > plane.signed(right.tail)  # .L on +X
+    assert plane.normal[0] > 0.999
+    older = dataclasses.replace(skeleton, mirror_plane=np.zeros(4), mirror_error=1.0)
+    assert bones.plan_plane(older) is None
+    assert not mirror_partners(bones.plan_bones(older))
+    assert dcg.Skeleton.from_json(skeleton.to_json()).mirror_error == skeleton.mirror_error
 
 
 def test_limbs_pair_only_when_they_end_alike():

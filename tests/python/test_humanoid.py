@@ -89,7 +89,15 @@ def test_other_shapes_keep_the_descriptive_names():
     extra_end.links = np.vstack([extra_end.links, [[0, 7]]])
     extra_end.polylines = extra_end.polylines + [np.linspace([0, 0, 1.0], [0, -0.6, 0.9], 9)]
     extra_end.radii = np.full(8, 0.05)
-    for skeleton in (quadruped, extra_end):
+    # A quadruped whose legs and neck all leave one joint in the middle of its body (spot's
+    # skeleton): seen from that joint its hind legs go on away from its head, but its front
+    # feet stand under its head, not between it and the hind feet.
+    one_joint = stick_figure(
+        [[0, 0, 0.8], [0, 1.2, 1.6], [0.3, 0.5, 0], [-0.3, 0.5, 0], [0.25, -0.9, 0],
+         [-0.25, -0.9, 0]],
+        ["joint", "end", "end", "end", "end", "end"],
+        [[0, 1], [0, 2], [0, 3], [0, 4], [0, 5]])
+    for skeleton in (quadruped, extra_end, one_joint):
         assert humanoid.find_humanoid(skeleton) is None
         plan = bones.plan_bones(skeleton, names="mixamo")
         assert not humanoid.is_mixamo(plan)

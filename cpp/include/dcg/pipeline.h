@@ -18,6 +18,7 @@
 #include "dcg/prongs.h"
 #include "dcg/remap.h"
 #include "dcg/skeleton.h"
+#include "dcg/symmetry.h"
 #include "dcg/types.h"
 #include "dcg/voronoi_balls.h"
 
@@ -77,6 +78,9 @@ class Extractor {
   /// The skeleton built from the domain points alone (minimum spanning tree, twigs pruned,
   /// method "interim_graph"), in input coordinates: the fallback of skeleton().
   Skeleton interim_skeleton();
+  /// The working mesh's mirror plane (dcg/symmetry.h; normalized units), found once: each
+  /// skeleton carries it in input coordinates (Skeleton::mirror_plane).
+  const MirrorPlane& mirror_plane();
   /// Seconds per stage run so far, in the order they ran. skeleton() runs stage 3 on a thread of
   /// its own beside stages 1-2 (when the engine may use more than one thread): each stage's
   /// seconds are its own, and the skeleton's "total" is the time the run took, less than their
@@ -109,6 +113,7 @@ class Extractor {
   std::optional<DomainGraph> graph_;
   std::optional<Remapped> remapped_;
   std::optional<Skeleton> skeleton_;
+  std::optional<MirrorPlane> mirror_;
   std::vector<std::pair<std::string, double>> timings_;
   double overlapped_ = 0;  // seconds stages ran at the same time (prongs_beside_balls)
 };

@@ -42,6 +42,11 @@ struct Skeleton {
   bool repaired = false;
   /// The stages that produced this skeleton, e.g. "interim_graph" while stages 4-8 are missing.
   std::string method;
+  /// The shape's mirror plane (dcg/symmetry.h, the working mesh's) in input coordinates: its
+  /// unit normal n then its offset o (n . x = o), and how far the shape is from mirroring itself
+  /// across it (mean, over the bounding-box diagonal; 1: no plane was tried).
+  Eigen::Vector4d mirror_plane = Eigen::Vector4d::Zero();
+  double mirror_error = 1;
 };
 
 /// Stage 8: the skeleton in NORMALIZED units (the working mesh's) from the graph of stage 6 and
