@@ -77,7 +77,7 @@ MirrorPlane find_mirror_plane(const Mesh& mesh, const SurfaceQuery& surface) {
                                              Eigen::Vector3d::UnitZ()};
   for (int k = 0; k < 3; ++k) {  // a principal axis along a coordinate axis is tried once
     const Eigen::Vector3d axis = principal.eigenvectors().col(k).normalized();
-    if (std::abs(axis.cwiseAbs().maxCoeff()) < kSameAxis) candidates.push_back(axis);
+    if (axis.cwiseAbs().maxCoeff() < kSameAxis) candidates.push_back(axis);
   }
   // Each candidate refitted once; the best one then again while that lowers its error.
   std::optional<Tried> chosen;
