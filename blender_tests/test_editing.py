@@ -174,10 +174,12 @@ def test_mixamo_names_for_a_humanoid_and_a_warning_for_a_cow(knight, spot, capfd
     assert {"Hips", "Spine", "Neck", "Head", "LeftArm", "LeftForeArm", "RightHand",
             "LeftUpLeg", "RightLeg", "LeftFoot"} <= names
     assert the_rig().data.bones["LeftUpLeg"].parent.name == "Hips"
+    assert "mirrored pairs)" in _printed(capfd)  # LeftArm / RightArm, ...
     bpy.context.view_layer.objects.active = spot
-    _printed(capfd)
     assert rig(weights="NONE", bone_names="MIXAMO") == {"FINISHED"}
-    assert "not humanoid" in _printed(capfd)
+    printed = _printed(capfd)
+    assert "not humanoid" in printed
+    assert "; 10 mirrored pairs)" in printed  # spot's four legs, across its own plane
     rigs = [o for o in bpy.data.objects if o.type == "ARMATURE" and spot.parent == o]
     assert rigs and not any(b.name == "Hips" for b in rigs[0].data.bones)
 

@@ -29,6 +29,15 @@ def _kind_counts(kinds):
     return ", ".join(f"{names.count(k)} {k}" for k in ("end", "joint", "connection"))
 
 
+def _mirror_summary(bone_names):
+    """"; 10 mirrored pairs" for an armature whose bones pair by side (X.L / X.R, or Mixamo's
+    LeftX / RightX: what X-Axis Mirror and Symmetrize pair), "; no mirror plane" without."""
+    names = set(bone_names)
+    pairs = sum(1 for n in names if (n.endswith(".L") and n[:-1] + "R" in names)
+                or (n.startswith("Left") and "Right" + n[4:] in names))
+    return f"; {pairs} mirrored pairs" if pairs else "; no mirror plane"
+
+
 class _EngineOperator:
     """Shared by Rig and Preview: settings, the blocking and the modal engine runs.
 
@@ -313,7 +322,8 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
         source = ("the edited preview skeleton, " if edited is not None else
                   "the previewed skeleton, " if self._previewed else "")
         self.report({"INFO"}, f"DCG: rigged {mesh_obj.name} with {result.bone_count} bones "
-                              f"({source}{_kind_counts(skeleton.kinds)} nodes) in "
+                              f"({source}{_kind_counts(skeleton.kinds)} nodes"
+                              f"{_mirror_summary(b.name for b in arm_obj.data.bones)}) in "
                               f"{self.elapsed:.2f} s")
         return {"FINISHED"}
 
