@@ -7,7 +7,8 @@
     points = symmetry.settle(original, target, reach)   # joints moved toward their targets
 
 The skeleton's plane is the best mirror plane of its nodes (`mirror_plane`, tolerant of small
-asymmetries) when it passes through the root. The limbs on either side that mirror each other
+asymmetries), else the shape's own when the surface mirrors itself closely (`shape_plane`: the
+engine's Skeleton.mirror_plane), when it passes through the root. The limbs on either side that mirror each other
 pair across it (`.L` / `.R`); the plan then mirrors across the plane those pairs and the
 middle fit best (`fitted_plane`: the nodes' plane is off by a degree or so, which would move
 every joint of a long limb). The planner places the joints of a pair once, on the mean of one
@@ -27,8 +28,8 @@ import numpy as np
 #: nodes (mean, in bounding-box diagonals); limbs' sides and pairs use the same tolerance.
 MIRROR_TOLERANCE = 0.03
 #: The shape's own mirror plane stands in for the nodes' when the surface mirrors itself across
-#: it this closely (mean, in bounding-box diagonals): spot 0.0007, cow 0.0002; a scan in a pose
-#: (armadillo 0.011) or a posed horse (0.03) is left to its nodes.
+#: it this closely (mean, in bounding-box diagonals): spot 0.0002, cow 0.0002; a scan in a pose
+#: (armadillo 0.011) or a posed horse (0.04) is left to its nodes.
 SHAPE_TOLERANCE = 0.005
 #: The farthest a joint moves to meet its mirror image or the plane, in skeleton radii at the
 #: joint (the radius is the distance to the surface: below 1 the joint stays inside the mesh).
