@@ -156,10 +156,14 @@ def _paired_ends(plane, positions, ends, tolerance):
     return None if best is None else best[1:]
 
 
+def _unit(vector):
+    """`vector` over its length (a zero vector stays zero)."""
+    return vector / max(float(np.linalg.norm(vector)), 1e-12)
+
+
 def _direction(positions, start, nodes):
     """Unit vector from node `start` to the mean of `nodes`."""
-    vector = positions[list(nodes)].mean(axis=0) - positions[start]
-    return vector / max(float(np.linalg.norm(vector)), 1e-12)
+    return _unit(positions[list(nodes)].mean(axis=0) - positions[start])
 
 
 def find_humanoid(skeleton):
@@ -195,8 +199,8 @@ def find_humanoid(skeleton):
     if float(up @ _direction(positions, pelvis, [foot_l, foot_r])) > -UPRIGHT:
         return None
     hands = positions[[hand_l, hand_r]].mean(axis=0)
-    to_head, to_feet = positions[head] - hands, positions[[foot_l, foot_r]].mean(axis=0) - hands
-    if float(to_head @ to_feet) > -UPRIGHT * np.linalg.norm(to_head) * np.linalg.norm(to_feet):
+    feet = positions[[foot_l, foot_r]].mean(axis=0)
+    if float(_unit(positions[head] - hands) @ _unit(feet - hands)) > -UPRIGHT:
         return None
     return Humanoid(head, chest, pelvis, {"L": hand_l, "R": hand_r},
                     {"L": foot_l, "R": foot_r})

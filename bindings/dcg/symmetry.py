@@ -139,10 +139,10 @@ def shape_plane(skeleton):
     end point on one of two horns, end balls placed a little differently on either side, as
     spot's): its limbs then pair across this plane instead of the nodes'."""
     error = float(getattr(skeleton, "mirror_error", 1.0))
-    normal = np.asarray(getattr(skeleton, "mirror_plane", np.zeros(4)), dtype=float)[:3]
-    if error > SHAPE_TOLERANCE or not np.isclose(np.linalg.norm(normal), 1.0):
+    plane = np.asarray(getattr(skeleton, "mirror_plane", np.zeros(4)), dtype=float)
+    if error > SHAPE_TOLERANCE or not np.isclose(np.linalg.norm(plane[:3]), 1.0):
         return None
-    return Plane(normal, float(skeleton.mirror_plane[3]), error)
+    return Plane(plane[:3], float(plane[3]), error)
 
 
 def limb_sides(skeleton, limb_points, limb_ends=None):

@@ -503,30 +503,6 @@ bool ProngHierarchy::cap_is_disk(int peak_vertex, double tau) const {
   return loops == 1;
 }
 
-double ProngHierarchy::geodesic(int from, int to) const {
-  std::vector<double> dist(f_.size(), kInf);
-  std::vector<HeapItem> heap = {{0.0, from}};
-  const auto greater = std::greater<HeapItem>();
-  dist[from] = 0;
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), greater);
-    const auto [d, u] = heap.back();
-    heap.pop_back();
-    if (u == to) return d;
-    if (d > dist[u]) continue;
-    for (int e = adjacency_start_[u]; e < adjacency_start_[u + 1]; ++e) {
-      const int v = adjacency_[e];
-      const double nd = d + (mesh_.V.row(u) - mesh_.V.row(v)).norm();
-      if (nd < dist[v]) {
-        dist[v] = nd;
-        heap.emplace_back(nd, v);
-        std::push_heap(heap.begin(), heap.end(), greater);
-      }
-    }
-  }
-  return kInf;
-}
-
 bool ProngHierarchy::mirrors_mesh(int a, int b) const {
   const Eigen::Vector3d pa = mesh_.V.row(a), pb = mesh_.V.row(b);
   if ((pa - pb).norm() == 0) return false;
@@ -547,7 +523,8 @@ bool ProngHierarchy::mirrors_mesh(int a, int b) const {
 
 bool ProngHierarchy::is_mirror_twin(const Peak& twin, const Peak& partner) const {
   if (std::abs(twin.value - partner.value) > kTwinValue * partner.value) return false;
-  if (geodesic(twin.vertex, twin.valley_vertex) < kTwinLength * f_.mean()) return false;
+  const double length = edge_geodesics(mesh_, twin.vertex)[twin.valley_vertex];
+  if (length < kTwinLength * f_.mean()) return false;
   return mirrors_mesh(twin.vertex, partner.vertex);
 }
 

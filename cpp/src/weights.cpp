@@ -328,14 +328,14 @@ struct BoneHeat::Impl {
   // bone that pokes out of it).
   bool visible(int v, const Eigen::Vector3d& q, double margin, bool through_back_faces) const {
     const Eigen::Vector3d o = V.row(v).transpose();
+    // Every part hides bones, not only v's own: measured, a leg part of a spider or the tongue
+    // of a snake then weights the bones it shows better (mean L1 0.395 against 0.429).
+    if (!through_back_faces) return clear(o, q, margin);
     Eigen::Vector3d d = q - o;
     const double length = d.norm();
     if (length <= 2 * margin) return true;
     d /= length;
-    // Every part hides bones, not only v's own: measured, a leg part of a spider or the tongue
-    // of a snake then weights the bones it shows better (mean L1 0.395 against 0.429).
     const Eigen::Vector3d origin = o - center.transpose();
-    if (!through_back_faces) return clear(o, q, margin);
     double tnear = margin, t = 0;
     for (int crossed = 0; crossed < kMaxBackFaces; ++crossed) {
       const int f = internal::first_hit(scene, origin, d, tnear, length - margin, &t);

@@ -18,8 +18,8 @@
 
 namespace {
 
-// What the skeleton promises: finite nodes, links and labels in range, one polyline per link
-// running from its first node to its second.
+// What the skeleton promises: finite nodes, links and labels in range, one polyline per link of
+// at least two finite points.
 void check_skeleton(const dcg::Skeleton& s, Eigen::Index input_faces) {
   const Eigen::Index n = s.positions.rows();
   if (!s.positions.allFinite() || static_cast<Eigen::Index>(s.kinds.size()) != n) __builtin_trap();

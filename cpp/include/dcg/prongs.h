@@ -114,8 +114,7 @@ class ProngHierarchy {
  private:
   bool cap_is_disk(int peak_vertex, double tau) const;
   bool is_mirror_twin(const Peak& twin, const Peak& partner) const;
-  bool mirrors_mesh(int a, int b) const;    // the plane halfway between a and b mirrors it
-  double geodesic(int from, int to) const;  // along the edges (Dijkstra, stops at `to`)
+  bool mirrors_mesh(int a, int b) const;  // the plane halfway between a and b mirrors it
 
   Mesh mesh_;
   Eigen::VectorXd f_;

@@ -26,11 +26,13 @@ struct MirrorPlane {
 constexpr int kMirrorSamples = 250;
 
 /// The best mirror plane of the closed mesh behind `surface` (its vertices `mesh.V`): candidates
-/// the coordinate planes and the principal planes through the centroid, each refined twice
-/// (the plane halfway between the samples and the surface points nearest their mirror images);
-/// a plane the shape nearly lies in (fewer than a quarter of the samples farther than 3% of
-/// the diagonal from it) mirrors it trivially and is skipped. As dcg.symmetry.mirror_plane does
-/// for points, with the surface instead of the points as the mirror image's target.
+/// the coordinate planes and the principal planes through the centroid (a principal axis within
+/// 10 degrees of a coordinate axis tried once), each refitted once (to the plane halfway between
+/// the samples and the surface points nearest their mirror images), the best one then refitted
+/// again while that lowers its error; a plane the shape nearly lies in (fewer than a quarter of the
+/// samples farther than 3% of the diagonal from it) mirrors it trivially and is skipped. As
+/// dcg.symmetry.mirror_plane does for points, with the surface instead of the points as the mirror
+/// image's target.
 MirrorPlane find_mirror_plane(const Mesh& mesh, const SurfaceQuery& surface);
 
 }  // namespace dcg
