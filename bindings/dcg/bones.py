@@ -32,8 +32,10 @@ joints, fitted once on their mean, one limb's the mirror images of the other's, 
 Blender's side suffixes, the two chains sharing their counters bone by bone
 (``connection.004.L`` / ``connection.004.R``, ``end.002.L`` / ``end.002.R``: what X-Axis
 Mirror, Symmetrize and Paste Pose Flipped pair; a .R bone is named after its .L partner).
-The middle's joints (its limbs', the root) lie on the plane. No joint moves farther than
-symmetry.MIRROR_REACH radii for that, so a pair that differs more mirrors only approximately.
+The middle's joints (its limbs', the root) lie on the plane. Joints mirror exactly where they
+stay inside the mesh for it (`symmetrize`: within symmetry.MIRROR_REACH radii of their own
+limb's skeleton, or copied from the .L limb when the surface mirrors itself); a pair that can
+do neither moves at most MIRROR_REACH radii toward its partner and mirrors approximately.
 .L is the side the plane's normal points to (its largest component positive: +X for a model
 mirrored across x = 0). The middle's limbs and every limb of a shape with no mirror plane
 keep the plain names, and a shape with no mirror plane keeps its joints where they were.
@@ -308,7 +310,7 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
                  for ask, count in zip(asked, wanted)]
     joints = limb_joints(plane, polylines, sides, wanted, min_length, fractions)
     if plane is not None:
-        symmetrize(plane, skeleton, chains, sides, joints)
+        symmetrize(plane, skeleton, chains, sides, joints, polylines)
     return _chain_bones(skeleton, chains, sides, joints, _references(plane, positions, sides,
                                                                      joints))
 
@@ -322,8 +324,10 @@ def check_bone_names(names):
 
 def plan_plane(skeleton):
     """The plane (a symmetry.Plane) that plan_bones mirrors the bones of `skeleton` across,
-    or None when it has no mirror plane: the skeleton's (symmetry.skeleton_plane) fitted to
-    the limbs that pair across it (`symmetry.fitted_plane`)."""
+    or None when it has no mirror plane: the shape's own (symmetry.shape_plane) when the
+    surface mirrors itself across a plane that agrees with the skeleton's (within
+    FITTED_AGREEMENT), else the skeleton's (symmetry.skeleton_plane) fitted to the limbs that
+    pair across it (`symmetry.fitted_plane`)."""
     chains = limbs(skeleton)
     return _symmetry(skeleton, chains, [limb_polyline(skeleton, limb) for limb in chains])[0]
 
@@ -336,7 +340,13 @@ def _symmetry(skeleton, chains, polylines):
     sides = symmetry.pair_limbs(plane, skeleton, [polyline[0] for polyline in polylines],
                                 [limb[-1][2] for limb in chains])
     if plane is not None:
-        plane = _fitted_plane(plane, polylines, sides)
+        shape = symmetry.shape_plane(skeleton)
+        agreement = 0.0 if shape is None else float(shape.normal @ plane.normal)
+        if abs(agreement) >= symmetry.FITTED_AGREEMENT:  # the surface's own: exact
+            plane = shape if agreement > 0 else symmetry.Plane(-shape.normal, -shape.offset,
+                                                               shape.error)
+        else:
+            plane = _fitted_plane(plane, polylines, sides)
     return plane, sides
 
 
@@ -418,51 +428,119 @@ def _links_at(where, at, segment_links):
     return np.asarray(segment_links)[segment]
 
 
-def symmetrize(plane, skeleton, chains, sides, joints):
-    """Move the joints (LimbJoints per limb, in place: `points`) so that the plan mirrors
-    itself across `plane`: the nodes two paired limbs start or end at halfway to their
-    partner's mirror image, those of the middle (other limbs' first and branching nodes, the
-    root) onto the plane; a pair's other joints to their targets (limb_joints), the middle's
-    onto the plane. A joint moves at most MIRROR_REACH radii (its own limb's radius there;
-    an end's tip: the radius at its bone's head, by which END_INSET keeps the tail inside) and
-    only as far as that on the way to a partner; a joint of the middle that the plane is
-    farther from stays. Each limb then starts (and, but at a tip, ends) where its nodes went."""
+def symmetrize(plane, skeleton, chains, sides, joints, polylines):
+    """Move the joints (LimbJoints per limb, in place: `points`; polylines: limb_polyline's per
+    limb) so that the plan mirrors itself across `plane`: the nodes two paired limbs start or
+    end at and a pair's other joints to where they mirror exactly when they stay inside the
+    shape there (`_paired_points`, `_symmetric_nodes`), those of the middle (other limbs' first
+    and branching nodes, the root) and the middle's joints onto the plane. A joint that cannot
+    mirror exactly moves at most MIRROR_REACH radii (its own limb's radius there; an end's tip:
+    the radius at its bone's head, by which END_INSET keeps the tail inside) toward where it
+    would; a joint of the middle that the plane is farther from stays. Each limb then starts
+    (and, but at a tip, ends) where its nodes went."""
     degree = _degrees(skeleton)
-    nodes = _symmetric_nodes(plane, skeleton, chains, sides)
-    reach = symmetry.MIRROR_REACH
+    inside = _mirror_test(plane, skeleton)
+    nodes = _symmetric_nodes(plane, skeleton, chains, sides, inside)
+    for i, j in _partners(sides).items():
+        tip = degree[chains[i][-1][2]] == 1
+        joints[i].points, joints[j].points = _paired_points(
+            plane, joints[i], joints[j], (polylines[i], polylines[j]), tip, inside)
     for k, (limb, limb_points) in enumerate(zip(chains, joints)):
-        allowed = reach * np.asarray(limb_points.own_radii, dtype=float)
-        if len(allowed) > 1:
-            allowed[-1] = reach * limb_points.own_radii[-2]  # a tip: see above
-        if sides[k][0] is not None:
-            limb_points.points = symmetry.settle(limb_points.original, limb_points.target,
-                                                 allowed)
-        else:
-            limb_points.points = symmetry.onto_plane(plane, limb_points.original, allowed)
+        if sides[k][0] is None:
+            limb_points.points = symmetry.onto_plane(plane, limb_points.original,
+                                                     symmetry.MIRROR_REACH * _depths(limb_points))
         start, end = limb[0][1], limb[-1][2]
         limb_points.points[0] = nodes[start]
         if degree[end] != 1:
             limb_points.points[-1] = nodes[end]
 
 
-def _symmetric_nodes(plane, skeleton, chains, sides):
-    """{node: where it goes} for the nodes limbs start at or branch at (see symmetrize)."""
+def _depths(limb_points):
+    """#J how deep each joint of a limb lies (its own radius; an end's tip: the radius at its
+    bone's head, see symmetrize)."""
+    depths = np.array(limb_points.own_radii, dtype=float)
+    if len(depths) > 1:
+        depths[-1] = depths[-2]
+    return depths
+
+
+def _mirror_test(plane, skeleton):
+    """inside(points, depths): whether the mirror images of points that deep inside the shape
+    lie inside it too (symmetry.copies_inside with the shape's own plane; all False when the
+    surface does not mirror itself). The shape's diagonal: its nodes' plus twice the largest
+    radius."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    radii = symmetry.MIRROR_REACH * np.asarray(skeleton.radii, dtype=float)
+    radii = np.asarray(skeleton.radii, dtype=float)
+    diagonal = float(np.linalg.norm(np.ptp(positions, axis=0))) + 2.0 * float(radii.max())
+    shape = symmetry.shape_plane(skeleton)
+
+    def inside(points, depths):
+        return symmetry.copies_inside(plane, shape, diagonal, points, depths)
+    return inside
+
+
+def _paired_points(plane, left, right, polylines, tip, inside):
+    """(points of the .L limb, of the .R limb) for a pair's joints (LimbJoints left and right,
+    polylines their limb_polyline's; tip: they end at end nodes), mirroring exactly where that
+    keeps every joint inside: (1) the targets (limb_joints: on the pair's mean) when each lies in
+    its own limb's tube of skeleton balls (symmetry.inside_tube; at a tip, the end bone's
+    inset tail); else (2) the .L limb's own joints and their mirror images when the shape
+    mirrors itself closely enough there (`inside`: a pair whose skeletons differ, one wing's
+    branching where the other's does not); else (3) each joint moved toward its target by at
+    most MIRROR_REACH radii (symmetry.settle: the pair then mirrors approximately)."""
+    fits = []
+    for limb_points, (line, _, _, radii) in zip((left, right), polylines):
+        target = np.asarray(limb_points.target, dtype=float)
+        fit = symmetry.inside_tube(target, line, radii)
+        if tip and len(target) > 1:
+            tail = _tail(target[-2], target[-1], limb_points.radii[-2])
+            fit[-1] = symmetry.inside_tube(tail, line, radii)[0]
+        fits.append(fit.all())
+    if all(fits):
+        return np.array(left.target, dtype=float), np.array(right.target, dtype=float)
+    own = np.array(left.original, dtype=float)
+    if inside(own, _depths(left)).all():
+        return own, plane.reflect(own)
+    reach = symmetry.MIRROR_REACH
+    return (symmetry.settle(left.original, left.target, reach * _depths(left)),
+            symmetry.settle(right.original, right.target, reach * _depths(right)))
+
+
+def _symmetric_nodes(plane, skeleton, chains, sides, inside):
+    """{node: where it goes} for the nodes limbs start at or branch at (see symmetrize): two
+    paired limbs' nodes as `_paired_nodes` places them, the others onto the plane where that
+    moves them at most MIRROR_REACH radii."""
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    reach = symmetry.MIRROR_REACH * np.asarray(skeleton.radii, dtype=float)
     pairs = []
     for i, j in _partners(sides).items():
         pairs += [(chains[i][0][1], chains[j][0][1]), (chains[i][-1][2], chains[j][-1][2])]
     partner = symmetry.node_partners(pairs)
     result = {}
-    for node, other in partner.items():
-        if node != other:
-            target = (positions[node] + plane.reflect(positions[other])) / 2.0
-            result[node] = symmetry.settle(positions[node], target, radii[node])
+    for node, other in pairs:
+        if node != other and partner.get(node) == other and node not in result:
+            result[node], result[other] = _paired_nodes(
+                plane, positions[node], positions[other], reach[node], reach[other], inside)
     ends = [node for limb in chains for node in (limb[0][1], limb[-1][2])]
     for node in ends:
         if node not in result:
-            result[node] = symmetry.onto_plane(plane, positions[node], radii[node])
+            result[node] = symmetry.onto_plane(plane, positions[node], reach[node])
     return result
+
+
+def _paired_nodes(plane, node, other, reach, other_reach, inside):
+    """(where a .L limb's node goes, where its partner on the .R side goes): halfway to each
+    other's mirror image when neither moves farther than its reach (MIRROR_REACH radii), else
+    the .L node and its mirror image where `inside` allows (see _paired_points), else each that
+    far on its way."""
+    target = (node + plane.reflect(other)) / 2.0
+    if (np.linalg.norm(target - node) <= reach
+            and np.linalg.norm(plane.reflect(target) - other) <= other_reach):
+        return target, plane.reflect(target)
+    if inside(node, reach / symmetry.MIRROR_REACH)[0]:
+        return np.array(node, dtype=float), plane.reflect(node)
+    return (symmetry.settle(node, target, reach),
+            symmetry.settle(other, plane.reflect(target), other_reach))
 
 
 def _references(plane, positions, sides, joints):

@@ -8,16 +8,19 @@
 
 The skeleton's plane is the best mirror plane of its nodes (`mirror_plane`, tolerant of small
 asymmetries), else the shape's own when the surface mirrors itself closely (`shape_plane`: the
-engine's Skeleton.mirror_plane), when it passes through the root. The limbs on either side that mirror each other
-pair across it (`.L` / `.R`); the plan then mirrors across the plane those pairs and the
-middle fit best (`fitted_plane`: the nodes' plane is off by a degree or so, which would move
-every joint of a long limb). The planner places the joints of a pair once, on the mean of one
-limb and the mirror image of the other (`mean_polyline`), and gives the other limb their
-mirror images; joints of the middle (unpaired limbs, the root) go onto the plane
-(`onto_plane`). A joint moves at most MIRROR_REACH skeleton radii there (the radius is its
-distance to the surface, so it stays inside the mesh): a paired joint that would have to move
-farther stops that far on its way (`settle`), that pair then mirrors only approximately, and a
-joint of the middle farther from the plane stays where it is.
+engine's Skeleton.mirror_plane), when it passes through the root. The limbs on either side
+that mirror each other pair across it (`.L` / `.R`); the plan then mirrors across the shape's
+own plane when the surface mirrors itself, else across the plane those pairs and the middle
+fit best (`fitted_plane`: the nodes' plane is off by a degree or so, which would move every
+joint of a long limb). The planner places the joints of a pair once, on the mean of one limb
+and the mirror image of the other (`mean_polyline`), and gives the other limb their mirror
+images; joints of the middle (unpaired limbs, the root) go onto the plane (`onto_plane`).
+A joint only goes where it stays inside the mesh (a skeleton radius is the distance to the
+surface): within MIRROR_REACH radii of its own limb's skeleton (`inside_tube`), or, for a
+pair copied from its .L limb, where the shape's own mirror plane says its image lies deep
+enough (`copies_inside`). A pair that can do neither moves at most MIRROR_REACH radii toward
+its partner (`settle`) and mirrors only approximately, and a joint of the middle farther from
+the plane stays where it is.
 """
 
 from dataclasses import dataclass
@@ -31,8 +34,9 @@ MIRROR_TOLERANCE = 0.03
 #: it this closely (mean, in bounding-box diagonals): spot 0.0002, cow 0.0002; a scan in a pose
 #: (armadillo 0.011) or a posed horse (0.04) is left to its nodes.
 SHAPE_TOLERANCE = 0.005
-#: The farthest a joint moves to meet its mirror image or the plane, in skeleton radii at the
-#: joint (the radius is the distance to the surface: below 1 the joint stays inside the mesh).
+#: How far from its own limb's skeleton a joint may go to mirror (inside_tube), and the farthest
+#: it moves toward its mirror image or the plane when it cannot, in skeleton radii (the radius is
+#: the distance to the surface: below 1 the joint stays inside the mesh).
 MIRROR_REACH = 0.9
 #: The plane fitted to the pairs replaces the nodes' only within acos(this) of it (25 deg).
 FITTED_AGREEMENT = 0.9
@@ -289,6 +293,39 @@ def node_partners(node_pairs):
         if a not in partner and b not in partner:
             partner[a], partner[b] = b, a
     return partner
+
+
+def inside_tube(points, line, radii, reach=MIRROR_REACH):
+    """#P booleans: whether each of `points` (#P by 3) lies within `reach` x the radius of a
+    limb's polyline (line #Q by 3, radii #Q, the radius linear along each segment) from it: in
+    the tube of skeleton balls along the limb, so inside the mesh for reach < 1 (a radius is the
+    distance to the surface)."""
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    line, radii = np.asarray(line, dtype=float), np.asarray(radii, dtype=float)
+    if len(line) < 2:
+        return np.linalg.norm(points - line[0], axis=1) <= reach * radii[0]
+    heads, step = line[:-1], np.diff(line, axis=0)
+    length2 = np.einsum("sa,sa->s", step, step)
+    along = np.einsum("psa,sa->ps", points[:, None] - heads[None], step)
+    t = np.clip(np.divide(along, length2, out=np.zeros_like(along), where=length2 > 0), 0, 1)
+    distance = np.linalg.norm(points[:, None] - (heads[None] + t[..., None] * step), axis=2)
+    radius = radii[:-1][None] * (1.0 - t) + radii[1:][None] * t
+    return (distance <= reach * radius).any(axis=1)
+
+
+def copies_inside(plane, shape, diagonal, points, depths):
+    """#P booleans: whether the mirror images across `plane` of `points` (#P by 3, each `depths`
+    deep inside the shape) lie inside the shape too, as far as the shape's own mirror plane
+    tells (`shape`: shape_plane's, or None: no such plane, all False). The shape mirrors itself
+    across `shape` within shape.error x `diagonal` (its bounding-box diagonal), so an image
+    across it is about as deep as its point; across `plane` it lies farther off by the gap
+    between the two images. True where that gap plus the shape's error is at most MIRROR_REACH
+    x the depth."""
+    points = np.asarray(points, dtype=float).reshape(-1, 3)
+    if shape is None:
+        return np.zeros(len(points), dtype=bool)
+    gap = np.linalg.norm(plane.reflect(points) - shape.reflect(points), axis=1)
+    return gap + shape.error * diagonal <= MIRROR_REACH * np.asarray(depths, dtype=float)
 
 
 def onto_plane(plane, points, reach):

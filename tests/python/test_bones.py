@@ -9,7 +9,7 @@ import pytest
 
 import dcg
 from conftest import shared_skeleton
-from dcg import bones
+from dcg import bones, metrics, symmetry
 
 
 @pytest.fixture
@@ -342,6 +342,77 @@ def test_joints_move_at_most_their_reach_toward_a_far_partner(no_inset):
                                     - skeleton.positions[10])
     legs = [pair for pair in mirror_partners(plan) if pair[0].node == 4]  # still exact
     assert legs and np.allclose(plane.reflect(legs[0][0].tail), legs[0][1].tail)
+
+
+def test_a_pair_too_far_apart_mirrors_exactly_when_the_shape_mirrors_itself(no_inset):
+    # The right hand 0.2 lower again, but the surface mirrors itself across x = 0 (the engine's
+    # Skeleton.mirror_plane): the skeleton is what differs, so the .L arm stays as it is and the
+    # .R arm gets its mirror image. A thinner arm (radius 0.01) on a surface that mirrors itself
+    # less closely (0.004 of the diagonal, more than 0.9 x 0.01) stays approximate, as above.
+    skeleton = body(arm_drop=0.2)
+    skeleton.radii = np.full(len(skeleton.positions), 0.05)
+    skeleton.mirror_plane, skeleton.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
+    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    plane = bones.plan_plane(skeleton)
+    assert np.allclose(plane.normal, [1, 0, 0]) and plane.offset == 0  # the shape's own
+    pairs = mirror_partners(plan)
+    assert len(pairs) == 2  # the legs, the arms (one bone a limb)
+    for left, right in pairs:
+        assert np.allclose(plane.reflect(left.head), right.head, atol=1e-12)
+        assert np.allclose(plane.reflect(left.tail), right.tail, atol=1e-12)
+    hands = {spec.name: spec for spec in plan if spec.node in (8, 10)}
+    assert np.allclose(hands["end.002.L"].tail, skeleton.positions[8])
+    skeleton.radii = np.full(len(skeleton.positions), 0.01)
+    skeleton.mirror_error = 0.004
+    hands = {spec.name: spec for spec in bones.plan_bones(skeleton, bone_detail=0.0)
+             if spec.node in (8, 10)}
+    gap = np.linalg.norm(plane.reflect(hands["end.002.L"].tail) - hands["end.002.R"].tail)
+    assert gap == pytest.approx(0.2 - 2 * bones.symmetry.MIRROR_REACH * 0.01)
+
+
+def test_inside_tube_and_copies_inside():
+    line = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0]])
+    radii = np.array([0.1, 0.2, 0.1])
+    points = [[0.5, 0.13, 0], [0.5, 0.14, 0], [1.1, 0.5, 0], [1.2, 0.5, 0], [1.0, 1.1, 0]]
+    # the radius along the first segment is 0.15 at its middle (x 0.9: 0.135), 0.15 along the
+    # second at y 0.5 (0.135), 0.1 at the last point (0.09)
+    assert symmetry.inside_tube(points, line, radii).tolist() == [True, False, True, False,
+                                                                   False]
+    assert symmetry.inside_tube([[0.5, 0.14, 0]], line, radii, reach=1.0).tolist() == [True]
+    plane = symmetry.Plane(np.array([1.0, 0, 0]), 0.0, 0.0)
+    tilted = symmetry.Plane(np.array([np.cos(0.01), np.sin(0.01), 0]), 0.0, 0.0)
+    shape = symmetry.Plane(np.array([1.0, 0, 0]), 0.0, 0.001)  # mirrors within 0.001 x diagonal
+    deep = [[1.0, 0, 0], [1.0, 0, 0]]
+    # across the shape's own plane: its error (0.001 x 10) against 0.9 x the depth
+    assert symmetry.copies_inside(plane, shape, 10.0, deep, [0.02, 0.01]).tolist() == [True,
+                                                                                      False]
+    # across a plane 0.01 rad off it: the images lie 0.02 apart at x = 1 as well
+    assert symmetry.copies_inside(tilted, shape, 10.0, deep, [0.04, 0.03]).tolist() == [True,
+                                                                                       False]
+    assert not symmetry.copies_inside(plane, None, 10.0, deep, [1.0, 1.0]).any()
+
+
+def test_the_rigged_characters_pairs_mirror_exactly_and_stay_inside(meshes_dir):
+    """On the rigged characters whose surfaces mirror themselves (all but the snake and the
+    cylinder have pairs), every .L bone is its .R partner's mirror image across the plan's plane,
+    where the skeletons differ too (Q_Dragon's wings branch differently on either side,
+    Mannequiny's upper arms' polylines double back), and no joint leaves the mesh for that."""
+    import mesh_parts
+
+    folder = meshes_dir / "rigged"
+    for name in ("Mannequiny", "Q_Dragon", "Q_Male_Casual", "Q_Zombie"):
+        V, F = dcg.load_mesh(folder / f"{name}.obj")
+        skeleton = shared_skeleton(V, F, name)
+        plane = bones.plan_plane(skeleton)
+        assert plane is not None and skeleton.mirror_error < bones.symmetry.SHAPE_TOLERANCE
+        plan = bones.plan_bones(skeleton)
+        arrays = bones.bone_arrays(plan)
+        mirror = metrics.mirror_error(V, arrays["names"], arrays["heads"], arrays["tails"],
+                                          plane.normal, plane.offset)
+        assert mirror["pairs"] >= 20 and mirror["unpaired"] == 0, name
+        assert mirror["mirror_max"] < 1e-9, name
+        joints = metrics.unique_points(np.concatenate([arrays["heads"], arrays["tails"]]))
+        assert mesh_parts.inside_any_part(joints, V, F).all(), name
 
 
 def test_an_asymmetric_skeleton_is_rigged_as_it_is(no_inset):
