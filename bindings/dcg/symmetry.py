@@ -34,6 +34,10 @@ MIRROR_TOLERANCE = 0.03
 #: it this closely (mean, in bounding-box diagonals): spot 0.0002, cow 0.0002; a scan in a pose
 #: (armadillo 0.011) or a posed horse (0.04) is left to its nodes.
 SHAPE_TOLERANCE = 0.005
+#: A pair of limbs whose skeletons differ is made the .L one and its mirror image only when the
+#: surface mirrors itself this closely (mean, in bounding-box diagonals): a modelled character
+#: (Q_Dragon 0.000002, Mannequiny 0.0001), not a pose (Q_Zombie 0.0017; see copies_inside).
+COPY_TOLERANCE = 0.001
 #: How far from its own limb's skeleton a joint may go to mirror (inside_tube), and the farthest
 #: it moves toward its mirror image or the plane when it cannot, in skeleton radii (the radius is
 #: the distance to the surface: below 1 the joint stays inside the mesh).
@@ -316,13 +320,14 @@ def inside_tube(points, line, radii, reach=MIRROR_REACH):
 def copies_inside(plane, shape, diagonal, points, depths):
     """#P booleans: whether the mirror images across `plane` of `points` (#P by 3, each `depths`
     deep inside the shape) lie inside the shape too, as far as the shape's own mirror plane
-    tells (`shape`: shape_plane's, or None: no such plane, all False). The shape mirrors itself
-    across `shape` within shape.error x `diagonal` (its bounding-box diagonal), so an image
-    across it is about as deep as its point; across `plane` it lies farther off by the gap
-    between the two images. True where that gap plus the shape's error is at most MIRROR_REACH
-    x the depth."""
+    tells (`shape`: shape_plane's; all False without one, or when the surface mirrors itself
+    less closely than COPY_TOLERANCE: a pose or a scan, whose limbs may differ more than the
+    mean says). The shape mirrors itself across `shape` within shape.error x `diagonal` (its
+    bounding-box diagonal), so an image across it is about as deep as its point; across `plane`
+    it lies farther off by the gap between the two images. True where that gap plus the
+    shape's error is at most MIRROR_REACH x the depth."""
     points = np.asarray(points, dtype=float).reshape(-1, 3)
-    if shape is None:
+    if shape is None or shape.error > COPY_TOLERANCE:
         return np.zeros(len(points), dtype=bool)
     gap = np.linalg.norm(plane.reflect(points) - shape.reflect(points), axis=1)
     return gap + shape.error * diagonal <= MIRROR_REACH * np.asarray(depths, dtype=float)
