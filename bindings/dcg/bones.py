@@ -36,6 +36,8 @@ The middle's joints (its limbs', the root) lie on the plane. Joints mirror exact
 stay inside the mesh for it (`symmetrize`: within symmetry.MIRROR_REACH radii of their own
 limb's skeleton, or copied from the .L limb when the surface mirrors itself); a pair that can
 do neither moves at most MIRROR_REACH radii toward its partner and mirrors approximately.
+A limb of the middle that the engine ended on one of two mirror-image features (spot's head on
+one horn) ends where it leaves the plane, on it (`_middle_ends`).
 .L is the side the plane's normal points to (its largest component positive: +X for a model
 mirrored across x = 0). The middle's limbs and every limb of a shape with no mirror plane
 keep the plain names, and a shape with no mirror plane keeps its joints where they were.
@@ -73,6 +75,9 @@ NARROWING = 1.0
 PRIOR = 10.0
 #: An end bone's tail stops this many radii (at its head) short of the end node.
 END_INSET = 1.0
+#: A limb of the middle whose end lies off the mirror plane for at most this many radii (where
+#: it leaves the plane) of its length ends there instead (`_middle_ends`: spot's head on a horn).
+TWIN_TIP = 3.0
 
 
 @dataclass
@@ -301,6 +306,8 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
     chains = limbs(skeleton)
     polylines = [limb_polyline(skeleton, limb) for limb in chains]
     plane, sides = _symmetry(skeleton, chains, polylines)
+    if plane is not None:
+        polylines = _middle_ends(plane, skeleton, chains, sides, polylines)
     segments = [len(polyline[0]) - 1 for polyline in polylines]
     asked = [(limb_fractions or {}).get(limb[-1][2]) for limb in chains]
     wanted = _paired_counts([
@@ -348,6 +355,48 @@ def _symmetry(skeleton, chains, polylines):
         else:
             plane = _fitted_plane(plane, polylines, sides)
     return plane, sides
+
+
+def _middle_ends(plane, skeleton, chains, sides, polylines):
+    """`polylines` (limb_polyline's per limb), those of the middle's limbs that end on one of
+    two mirror-image features cut where they leave the plane (`_cut_at_plane`): spot's head ends
+    on one of its horns, whose mirror image is no end of the skeleton. Only on a surface that
+    mirrors itself within symmetry.COPY_TOLERANCE (elsewhere an end off the plane is the shape's
+    own), and not a limb whose end's mirror image is an end too (a leg that did not pair)."""
+    shape = symmetry.shape_plane(skeleton)
+    if shape is None or shape.error > symmetry.COPY_TOLERANCE:
+        return polylines
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    degree = _degrees(skeleton)
+    ends = np.flatnonzero(degree == 1)
+    near = symmetry.MIRROR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
+    result = list(polylines)
+    for k, (limb, (side, _)) in enumerate(zip(chains, sides)):
+        end = limb[-1][2]
+        if side is not None or degree[end] != 1:
+            continue
+        others = positions[ends[ends != end]]
+        image = plane.reflect(positions[end])
+        if len(others) and np.linalg.norm(others - image, axis=1).min() <= near:
+            continue
+        result[k] = _cut_at_plane(plane, polylines[k])
+    return result
+
+
+def _cut_at_plane(plane, polyline):
+    """A limb's polyline (limb_polyline's) that ends off the plane, farther than MIRROR_REACH
+    radii (at the last point near the plane) and only for its last TWIN_TIP such radii of arc
+    length, cut at its last point within MIRROR_REACH radii of the plane, that point moved onto
+    the plane and given the end node; any other polyline as it is."""
+    points, nodes, segment_links, radii = polyline
+    close = np.abs(plane.signed(points[:-1])) <= symmetry.MIRROR_REACH * radii[:-1]
+    last = int(np.flatnonzero(close)[-1]) if close.any() else 0
+    if last == 0 or abs(plane.signed(points[-1])) <= symmetry.MIRROR_REACH * radii[last]:
+        return polyline
+    if np.linalg.norm(np.diff(points[last:], axis=0), axis=1).sum() > TWIN_TIP * radii[last]:
+        return polyline
+    points = np.vstack([points[:last], plane.project(points[last])])
+    return points, np.append(nodes[:last], nodes[-1]), segment_links[:last], radii[:last + 1]
 
 
 def _fitted_plane(plane, polylines, sides):

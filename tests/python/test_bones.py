@@ -371,6 +371,26 @@ def test_a_pair_too_far_apart_mirrors_exactly_when_the_shape_mirrors_itself(no_i
     assert gap == pytest.approx(0.2 - 2 * bones.symmetry.MIRROR_REACH * 0.05)
 
 
+def test_a_middle_end_on_one_of_two_twin_features_ends_on_the_plane(no_inset):
+    # The head's end on one of two horns (as the engine put spot's): the head ends where its
+    # limb leaves the plane, on it, when the surface mirrors itself; a pose keeps it on the horn.
+    skeleton = body()
+    skeleton.positions[2] = [0.2, 0, 1.55]
+    skeleton.polylines[1] = np.array([[0, 0, 1], [0, 0, 1.2], [0, 0, 1.4], [0.1, 0, 1.5],
+                                      [0.2, 0, 1.55]])
+    skeleton.mirror_plane, skeleton.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
+    (head,) = [spec for spec in bones.plan_bones(skeleton, bone_detail=1.0) if spec.node == 2]
+    assert head.kind == "end" and np.allclose(head.tail, [0, 0, 1.4])
+    skeleton.mirror_error = 0.004  # above COPY_TOLERANCE: the shape's own asymmetry
+    (head,) = [spec for spec in bones.plan_bones(skeleton, bone_detail=1.0) if spec.node == 2]
+    assert np.allclose(head.tail, [0.2, 0, 1.55])
+    skeleton.mirror_error = 1e-4  # the twin tip longer than TWIN_TIP radii: a limb of its own
+    skeleton.positions[2] = [0.4, 0, 1.55]
+    skeleton.polylines[1][-1] = [0.4, 0, 1.55]
+    (head,) = [spec for spec in bones.plan_bones(skeleton, bone_detail=1.0) if spec.node == 2]
+    assert np.allclose(head.tail, [0.4, 0, 1.55])
+
+
 def test_inside_tube_and_copies_inside():
     line = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0]])
     radii = np.array([0.1, 0.2, 0.1])
