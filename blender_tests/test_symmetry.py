@@ -239,3 +239,28 @@ def test_paste_pose_flipped_poses_the_mirror_image(rig):
                 assert apart < 1e-3, (bone.name, apart)
     finally:
         bpy.ops.object.mode_set(mode="OBJECT")
+
+
+def test_limbs_that_do_not_pair_on_a_symmetric_shape_are_warned_of(dcg):
+    # A body whose right leg hangs from the chest, the left from the hips (as Q_Horse's front
+    # legs do), on a shape that mirrors itself across x = 0: the rig says so.
+    import types
+
+    from dcg_rig import rigging
+
+    positions = np.array([[0, 0, 0], [0, 0, 1], [0, 0, 1.6], [0.3, 0, -0.6], [0.3, 0, -1.2],
+                          [-0.3, 0, -0.6], [-0.3, 0, -1.2], [0.6, 0, 1], [1.2, 0, 1],
+                          [-0.6, 0, 1], [-1.2, 0, 1]], dtype=float)
+    links = np.array([[0, 1], [1, 2], [0, 3], [3, 4], [1, 5], [5, 6], [1, 7], [7, 8], [1, 9],
+                      [9, 10]])
+    skeleton = types.SimpleNamespace(
+        positions=positions, links=links, polylines=[positions[link] for link in links],
+        kinds=np.array(["joint", "joint", "end", "connection", "end", "connection", "end",
+                        "connection", "end", "connection", "end"]),
+        radii=np.full(len(positions), 0.1), root=0, mirror_plane=np.array([1.0, 0, 0, 0]),
+        mirror_error=1e-4)
+    plan, warnings = rigging.plan_bones(skeleton, 0.5, "DCG")
+    assert plan and any("2 limbs did not pair" in warning for warning in warnings)
+    skeleton.links[4] = [0, 5]  # both legs from the hips: they pair, nothing to say
+    skeleton.polylines[4] = positions[[0, 5]]
+    assert not rigging.plan_bones(skeleton, 0.5, "DCG")[1]

@@ -79,13 +79,19 @@ def reusable_prepared(mesh_obj, prepared):
 def plan_bones(skeleton, bone_detail, bone_names):
     """(the bone plan of `skeleton`, warnings): the package's planner (dcg.bones.plan_bones)
     at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"; a warning when Mixamo's
-    names were asked for a skeleton that is not humanoid)."""
+    names were asked for a skeleton that is not humanoid), and a warning when limbs of a shape
+    that mirrors itself did not pair (dcg.bones.unpaired_limbs)."""
     engine = _engine.require()
     plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower())
     warnings = []
     if bone_names == "MIXAMO" and not engine.humanoid.is_mixamo(plan):
         warnings.append("the skeleton is not humanoid (one head, two arms, two legs, upright "
                         "and symmetric): kept the descriptive bone names")
+    unpaired = engine.bones.unpaired_limbs(skeleton)
+    if unpaired:
+        warnings.append(f"the shape mirrors itself, but {unpaired} limbs did not pair (their "
+                        "skeletons differ, e.g. one leg hangs from the hips, its mirror image "
+                        "from the chest): they keep plain names and do not mirror each other")
     return plan, warnings
 
 

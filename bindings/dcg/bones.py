@@ -357,6 +357,32 @@ def _symmetry(skeleton, chains, polylines):
     return plane, sides
 
 
+def unpaired_limbs(skeleton):
+    """The number of limbs of a shape that mirrors itself (symmetry.shape_plane) that end at an
+    end node off the plane whose mirror image is the end of another such limb, yet did not
+    pair: their skeletons differ more than pairing tolerates (a leg hanging from the hips on one
+    side and from the chest on the other), so they keep plain names and no mirror image. 0
+    without such a plane. What the add-on warns of."""
+    if symmetry.shape_plane(skeleton) is None:
+        return 0
+    chains = limbs(skeleton)
+    plane, sides = _symmetry(skeleton, chains, [limb_polyline(skeleton, limb) for limb in chains])
+    if plane is None:
+        return 0
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    degree = _degrees(skeleton)
+    near = symmetry.MIRROR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
+    ends = np.array([limb[-1][2] for limb, (side, _) in zip(chains, sides)
+                     if side is None and degree[limb[-1][2]] == 1
+                     and abs(plane.signed(positions[limb[-1][2]])) > near], dtype=np.int64)
+    if len(ends) < 2:
+        return 0
+    images = plane.reflect(positions[ends])
+    gaps = np.linalg.norm(images[:, None] - positions[ends][None], axis=2)
+    np.fill_diagonal(gaps, np.inf)
+    return int((gaps.min(axis=1) <= near).sum())
+
+
 def _middle_ends(plane, skeleton, chains, sides, polylines):
     """`polylines` (limb_polyline's per limb), those of the middle's limbs that end on one of
     two mirror-image features cut where they leave the plane (`_cut_at_plane`): spot's head ends

@@ -391,6 +391,22 @@ def test_a_middle_end_on_one_of_two_twin_features_ends_on_the_plane(no_inset):
     assert np.allclose(head.tail, [0.4, 0, 1.55])
 
 
+def test_limbs_that_should_pair_but_do_not_are_counted():
+    # The right leg hangs from the chest, the left from the hips: their feet mirror each other
+    # on a shape that mirrors itself, but the limbs do not; the add-on warns of them.
+    skeleton = body()
+    skeleton.links[4] = [1, 5]
+    skeleton.polylines[4] = skeleton.positions[[1, 5]]
+    assert bones.unpaired_limbs(skeleton) == 0  # no plane of the shape: nothing expected
+    skeleton.mirror_plane, skeleton.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
+    feet = [spec.name for spec in bones.plan_bones(skeleton) if spec.node in (4, 6)]
+    assert len(feet) == 2 and not any(name.endswith((".L", ".R")) for name in feet)
+    assert bones.unpaired_limbs(skeleton) == 2
+    symmetric = body()
+    symmetric.mirror_plane, symmetric.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
+    assert bones.unpaired_limbs(symmetric) == 0
+
+
 def test_inside_tube_and_copies_inside():
     line = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0]])
     radii = np.array([0.1, 0.2, 0.1])
