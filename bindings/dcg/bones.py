@@ -342,7 +342,8 @@ def plan_plane(skeleton):
 def _symmetry(skeleton, chains, polylines):
     """(plane, sides): the plan's mirror plane (see plan_plane) and the (side, pair) of each
     limb (symmetry.pair_limbs across the skeleton's plane; limbs pair when they end at nodes
-    of one kind)."""
+    of one kind; on a surface that mirrors itself within COPY_TOLERANCE also limbs whose ends
+    and starts mirror each other, symmetry.pair_by_ends)."""
     plane = symmetry.skeleton_plane(skeleton)
     sides = symmetry.pair_limbs(plane, skeleton, [polyline[0] for polyline in polylines],
                                 [limb[-1][2] for limb in chains])
@@ -352,6 +353,9 @@ def _symmetry(skeleton, chains, polylines):
         if abs(agreement) >= symmetry.FITTED_AGREEMENT:  # the surface's own: exact
             plane = shape if agreement > 0 else symmetry.Plane(-shape.normal, -shape.offset,
                                                                shape.error)
+            if shape.error <= symmetry.COPY_TOLERANCE:
+                sides = symmetry.pair_by_ends(plane, skeleton, [limb[0][1] for limb in chains],
+                                              [limb[-1][2] for limb in chains], sides)
         else:
             plane = _fitted_plane(plane, polylines, sides)
     return plane, sides

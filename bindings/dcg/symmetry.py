@@ -189,6 +189,40 @@ def pair_limbs(plane, skeleton, limb_points, limb_ends=None):
     return result
 
 
+def pair_by_ends(plane, skeleton, limb_starts, limb_ends, sides):
+    """`sides` (pair_limbs') with more pairs on a shape that mirrors itself: two limbs that did
+    not pair, end at end nodes of one kind off the plane that mirror each other and start at one
+    node on the plane (or at two that mirror each other), all within MIRROR_TOLERANCE, pair
+    though their paths differ (Q_Horse's front legs: one runs along the belly from the hips,
+    its mirror image does not). The planner then gives the .R limb the mirror image of the .L
+    one where the shape allows (copies_inside). The .L limb is the one on the normal's side."""
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    tolerance = _tolerance(positions)
+    kinds = np.array([str(k) for k in skeleton.kinds])
+    degree = np.bincount(np.asarray(skeleton.links, dtype=np.int64).ravel(),
+                         minlength=len(positions))
+    free = [k for k, (side, _) in enumerate(sides) if side is None
+            and degree[limb_ends[k]] == 1 and kinds[limb_ends[k]] == "end"
+            and abs(plane.signed(positions[limb_ends[k]])) > tolerance]
+    result = list(sides)
+    pair = max([number for _, number in sides] + [-1]) + 1
+    for a in (k for k in free if plane.signed(positions[limb_ends[k]]) > 0):
+        image = plane.reflect(positions[[limb_ends[a], limb_starts[a]]])
+        best = None
+        for b in (k for k in free if result[k][0] is None and k != a):
+            end_gap = np.linalg.norm(image[0] - positions[limb_ends[b]])
+            start_gap = (abs(plane.signed(positions[limb_starts[a]]))
+                         if limb_starts[a] == limb_starts[b]
+                         else np.linalg.norm(image[1] - positions[limb_starts[b]]))
+            if end_gap <= tolerance and start_gap <= tolerance and (
+                    best is None or end_gap < best[0]):
+                best = (end_gap, b)
+        if best is not None:
+            result[a], result[best[1]] = ("L", pair), ("R", pair)
+            pair += 1
+    return result
+
+
 def arc_fractions(points):
     """#P: each point's arc length along the polyline `points`, over the whole (0 to 1)."""
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])

@@ -407,6 +407,29 @@ def test_limbs_that_should_pair_but_do_not_are_counted():
     assert bones.unpaired_limbs(symmetric) == 0
 
 
+def test_limbs_whose_ends_and_starts_mirror_pair_on_a_shape_that_mirrors_itself(no_inset):
+    # The right leg's path bulges back (as Q_Horse's front leg runs along its belly): the legs'
+    # polylines no longer mirror, their ends and starts do. On a surface that mirrors itself
+    # they pair and the right leg becomes the left one's mirror image; else they stay apart.
+    skeleton = body()
+    skeleton.polylines[4] = np.array([[0, 0, 0], [-0.1, 1.0, -0.1], [-0.3, 0, -0.6]])
+    chains = bones.limbs(skeleton)
+    points = [bones.limb_polyline(skeleton, limb)[0] for limb in chains]
+    ends = [limb[-1][2] for limb in chains]
+    sides = dict(zip(ends, bones.limb_sides(skeleton, points, ends)))
+    assert sides[4][0] is None and sides[6][0] is None  # too different to pair as they are
+    assert bones.unpaired_limbs(skeleton) == 0  # (no plane of the shape: nothing expected)
+    skeleton.mirror_plane, skeleton.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
+    plan = bones.plan_bones(skeleton, bone_detail=1.0)
+    feet = {spec.node: spec for spec in plan if spec.node in (4, 6)}
+    assert feet[4].name == feet[6].name[:-1] + "L" and feet[6].name.endswith(".R")
+    plane = bones.plan_plane(skeleton)
+    for left, right in mirror_partners(plan):
+        assert np.allclose(plane.reflect(left.head), right.head, atol=1e-12)
+        assert np.allclose(plane.reflect(left.tail), right.tail, atol=1e-12)
+    assert bones.unpaired_limbs(skeleton) == 0
+
+
 def test_inside_tube_and_copies_inside():
     line = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0]])
     radii = np.array([0.1, 0.2, 0.1])
