@@ -167,7 +167,9 @@ def pair_limbs(plane, skeleton, limb_points, limb_ends=None):
     to their mirror image (both ways, within twice the tolerance). With `limb_ends` (the node
     each limb ends at) two limbs pair only when those nodes are of one kind, so that their
     bones' names pair too (an arm that ends in a hand on one side and at a fingertip on the
-    other is no mirror image of the other arm)."""
+    other is no mirror image of the other arm). Two limbs that start at one point off the plane
+    do not pair (their first bones could not mirror each other: a rotated Q_Frog's hind legs
+    both hang from one joint on its right side)."""
     none = [(None, -1)] * len(limb_points)
     if plane is None:
         return none
@@ -178,6 +180,9 @@ def pair_limbs(plane, skeleton, limb_points, limb_ends=None):
     if not len(left) or not len(right):
         return none
     gaps = np.linalg.norm(plane.reflect(centres[left])[:, None] - centres[right][None], axis=2)
+    starts = np.array([points[0] for points in limb_points]).reshape(-1, 3)
+    shared = (starts[left][:, None] == starts[right][None]).all(axis=2)  # one node
+    gaps[shared & (np.abs(plane.signed(starts[left]))[:, None] > tolerance)] = np.inf
     if limb_ends is not None:
         kinds = np.array([str(k) for k in skeleton.kinds])[np.asarray(limb_ends, dtype=int)]
         gaps[kinds[left][:, None] != kinds[right][None]] = np.inf

@@ -430,6 +430,21 @@ def test_limbs_whose_ends_and_starts_mirror_pair_on_a_shape_that_mirrors_itself(
     assert bones.unpaired_limbs(skeleton) == 0
 
 
+def test_limbs_that_start_at_one_joint_off_the_plane_do_not_pair():
+    # Both legs hang from one joint 0.3 to the right of the plane (a rotated Q_Frog's hind legs
+    # did): their feet mirror each other, their first bones cannot, so they keep plain names.
+    positions = [[0, 0, 0.5], [0.3, 0, 0], [1, 0, -1], [1, 0, -3], [-1, 0, -1], [-1, 0, -3],
+                 [0, 0, 1.5]]
+    kinds = ["joint", "joint", "connection", "end", "connection", "end", "end"]
+    links = [[0, 1], [1, 2], [2, 3], [1, 4], [4, 5], [0, 6]]
+    skeleton = skeleton_of(positions, kinds, links)
+    assert bones.plan_plane(skeleton) is not None
+    assert not mirror_partners(bones.plan_bones(skeleton))
+    skeleton.positions[1] = [0.0, 0, 0]  # from a joint on the plane they pair
+    skeleton.polylines = [skeleton.positions[[a, b]] for a, b in links]
+    assert len(mirror_partners(bones.plan_bones(skeleton, bone_detail=0.0))) == 1
+
+
 def test_inside_tube_and_copies_inside():
     line = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0]])
     radii = np.array([0.1, 0.2, 0.1])
