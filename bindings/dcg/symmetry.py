@@ -246,13 +246,7 @@ def nearest_fractions(plane, points_l, points_r):
     """#P_L: for each point of the .L limb (points_l #P_L by 3), the fraction of arc length
     along the .R limb (points_r) of the point nearest to its mirror image across `plane`,
     never decreasing along the limb, 0 and 1 at its two ends (its nodes)."""
-    mirrored = plane.reflect(points_l)
-    heads, tails = points_r[:-1], points_r[1:]
-    step = tails - heads
-    length2 = np.einsum("sa,sa->s", step, step)
-    along = np.einsum("psa,sa->ps", mirrored[:, None] - heads[None], step)
-    t = np.clip(np.divide(along, length2, out=np.zeros_like(along), where=length2 > 0), 0, 1)
-    distance = np.linalg.norm(mirrored[:, None] - (heads[None] + t[..., None] * step), axis=2)
+    t, distance = _on_segments(plane.reflect(points_l), points_r)
     segment = distance.argmin(axis=1)
     at_r = arc_fractions(points_r)
     where = at_r[segment] + t[np.arange(len(points_l)), segment] * np.diff(at_r)[segment]
@@ -347,13 +341,20 @@ def inside_tube(points, line, radii, reach=MIRROR_REACH):
     line, radii = np.asarray(line, dtype=float), np.asarray(radii, dtype=float)
     if len(line) < 2:
         return np.linalg.norm(points - line[0], axis=1) <= reach * radii[0]
+    t, distance = _on_segments(points, line)
+    radius = radii[:-1][None] * (1.0 - t) + radii[1:][None] * t
+    return (distance <= reach * radius).any(axis=1)
+
+
+def _on_segments(points, line):
+    """(t, distance), each #P by #S: where the point of each segment of the polyline `line`
+    (#S + 1 by 3) nearest to each of `points` (#P by 3) lies along it (0 at its start, 1 at its
+    end), and how far it is."""
     heads, step = line[:-1], np.diff(line, axis=0)
     length2 = np.einsum("sa,sa->s", step, step)
     along = np.einsum("psa,sa->ps", points[:, None] - heads[None], step)
     t = np.clip(np.divide(along, length2, out=np.zeros_like(along), where=length2 > 0), 0, 1)
-    distance = np.linalg.norm(points[:, None] - (heads[None] + t[..., None] * step), axis=2)
-    radius = radii[:-1][None] * (1.0 - t) + radii[1:][None] * t
-    return (distance <= reach * radius).any(axis=1)
+    return t, np.linalg.norm(points[:, None] - (heads[None] + t[..., None] * step), axis=2)
 
 
 def copies_inside(plane, shape, diagonal, points, depths):
