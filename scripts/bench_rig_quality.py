@@ -42,7 +42,8 @@ COLUMNS = [("character", "name", ""), ("CD-J2J %", "cd_j2j", ".3f"),
            ("inside CD-J2B %", "inside_cd_j2b", ".3f"),
            ("inside CD-B2B %", "inside_cd_b2b", ".3f"), ("their joints outside", "outside", "d"),
            ("mirror mean %", "mirror_mean", ".3f"), ("mirror max %", "mirror_max", ".3f"),
-           ("pairs", "pairs", "d"), ("our bones", "bones", "d"),
+           ("pairs", "pairs", "d"), ("unpaired limbs", "unpaired_limbs", "d"),
+           ("our bones", "bones", "d"),
            ("their bones", "their_bones", "d"),
            ("method", "method", ""), ("seconds", "seconds", ".2f")]
 
@@ -68,7 +69,8 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
     row.update({"inside_" + key: value for key, value in kept.items()})
     row["outside"] = int((~inside).sum())
     plane = bones.plan_plane(skeleton)
-    row.update(pairs=0, mirror_mean=None, mirror_max=None)
+    row.update(pairs=0, mirror_mean=None, mirror_max=None,
+               unpaired_limbs=bones.unpaired_limbs(skeleton))
     if plane is not None:
         row.update(metrics.mirror_error(V, plan["names"], plan["heads"], plan["tails"],
                                         plane.normal, plane.offset))
@@ -94,7 +96,8 @@ def main():
         rows.append(measure(name, obj, rig_path, args.bone_detail))
         print(f"bench_rig_quality: {rows[-1]}", file=sys.stderr, flush=True)
     mean = quality_tables.mean_row(rows, METRICS + INSIDE_METRICS + [
-        "outside", "mirror_mean", "mirror_max", "pairs", "bones", "their_bones", "seconds"])
+        "outside", "mirror_mean", "mirror_max", "pairs", "unpaired_limbs", "bones", "their_bones",
+        "seconds"])
     mean["name"] = f"**mean of {len(rows)}**"
     lines = quality_tables.header("Skeleton quality: our bones against the artists' skeletons")
     lines += [f"Characters of `{args.rigged}`. Ours: `dcg.extract_skeleton` (defaults), bones of "
@@ -105,7 +108,9 @@ def main():
               "Mirror: the distance from each `.L` bone's head and tail mirrored across the "
               "plan's mirror plane (`dcg.bones.plan_plane`) to its `.R` partner's, mean and "
               "largest, same unit ('-' without a mirror plane; the mean row over the "
-              "characters that have one); pairs: the pairs of bones. "
+              "characters that have one); pairs: the pairs of bones; unpaired limbs: limbs "
+              "of a shape that mirrors itself whose ends mirror each other yet did not pair "
+              "(`dcg.bones.unpaired_limbs`, what the add-on warns of). "
               "'their bones': one per joint (the weights protocol). The 'inside' CD columns "
               "leave out the artist's joints outside the mesh ('their joints outside': a root "
               "on the floor, a hub above the body, IK targets; winding number), each kept "
