@@ -27,7 +27,8 @@ segment. Names are the kind plus a counter per kind, in creation order: ``end.00
 ``joint.001``, ``connection.012``.
 
 Symmetry (`dcg.symmetry`): when the skeleton has a mirror plane through its root, the limbs
-on either side that mirror each other (and end at nodes of one kind) pair: both get the same
+on either side that mirror each other (and end at nodes of one kind; on a surface that mirrors
+itself, also those whose ends and starts mirror each other) pair: both get the same
 joints, fitted once on their mean, one limb's the mirror images of the other's, and
 Blender's side suffixes, the two chains sharing their counters bone by bone
 (``connection.004.L`` / ``connection.004.R``, ``end.002.L`` / ``end.002.R``: what X-Axis
@@ -37,7 +38,8 @@ stay inside the mesh for it (`symmetrize`: within symmetry.MIRROR_REACH radii of
 limb's skeleton, or copied from the .L limb when the surface mirrors itself); a pair that can
 do neither moves at most MIRROR_REACH radii toward its partner and mirrors approximately.
 A limb of the middle that the engine ended on one of two mirror-image features (spot's head on
-one horn) ends where it leaves the plane, on it (`_middle_ends`).
+one horn) ends where it leaves the plane, on it (`_middle_ends`); limbs that should pair and do
+not are counted by `unpaired_limbs` (the add-on warns of them).
 .L is the side the plane's normal points to (its largest component positive: +X for a model
 mirrored across x = 0). The middle's limbs and every limb of a shape with no mirror plane
 keep the plain names, and a shape with no mirror plane keeps its joints where they were.
