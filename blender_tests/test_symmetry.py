@@ -102,6 +102,9 @@ def test_paired_heads_mirror_each_other(rig):
         gaps.append(np.linalg.norm(rig.plane.reflect(head_l) - head_r) / rig.size)
     assert len(gaps) >= 4
     assert max(gaps) <= HEADS_MIRROR, f"largest gap {100 * max(gaps):.2f}% of the longest side"
+    # These surfaces mirror themselves, so the planner mirrors every pair exactly (its joints on
+    # their mean within their limbs' skeletons, or the .L limb copied): no gap at all.
+    assert max(gaps) <= EXACT, f"largest gap {100 * max(gaps):.4f}% of the longest side"
     # The middle's joints lie on the plane, but for those farther than the planner moves a
     # joint (a limb off to one side that has no partner). A bone of the middle whose parent
     # has a side (a cycle closing between the sides) starts at that side's joint.
