@@ -337,8 +337,14 @@ def plan_plane(skeleton):
     surface mirrors itself across a plane that agrees with the skeleton's (within
     FITTED_AGREEMENT), else the skeleton's (symmetry.skeleton_plane) fitted to the limbs that
     pair across it (`symmetry.fitted_plane`)."""
+    return _plan_symmetry(skeleton)[1]
+
+
+def _plan_symmetry(skeleton):
+    """(chains, plane, sides) of `skeleton`: its limbs and `_symmetry` of them."""
     chains = limbs(skeleton)
-    return _symmetry(skeleton, chains, [limb_polyline(skeleton, limb) for limb in chains])[0]
+    return (chains,) + _symmetry(skeleton, chains, [limb_polyline(skeleton, limb)
+                                                    for limb in chains])
 
 
 def _symmetry(skeleton, chains, polylines):
@@ -355,9 +361,10 @@ def _symmetry(skeleton, chains, polylines):
         if abs(agreement) >= symmetry.FITTED_AGREEMENT:  # the surface's own: exact
             plane = shape if agreement > 0 else symmetry.Plane(-shape.normal, -shape.offset,
                                                                shape.error)
-            if shape.error <= symmetry.COPY_TOLERANCE:
+            if symmetry.copy_plane(skeleton) is not None:
+                ends = [limb[-1][2] for limb in chains]
                 sides = symmetry.pair_by_ends(plane, skeleton, [limb[0][1] for limb in chains],
-                                              [limb[-1][2] for limb in chains], sides)
+                                              ends, _degrees(skeleton)[ends] == 1, sides)
         else:
             plane = _fitted_plane(plane, polylines, sides)
     return plane, sides
@@ -371,13 +378,12 @@ def unpaired_limbs(skeleton):
     without such a plane. What the add-on warns of."""
     if symmetry.shape_plane(skeleton) is None:
         return 0
-    chains = limbs(skeleton)
-    plane, sides = _symmetry(skeleton, chains, [limb_polyline(skeleton, limb) for limb in chains])
+    chains, plane, sides = _plan_symmetry(skeleton)
     if plane is None:
         return 0
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     degree = _degrees(skeleton)
-    near = symmetry.MIRROR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
+    near = symmetry.tolerance(positions)
     ends = np.array([limb[-1][2] for limb, (side, _) in zip(chains, sides)
                      if side is None and degree[limb[-1][2]] == 1
                      and abs(plane.signed(positions[limb[-1][2]])) > near], dtype=np.int64)
@@ -395,13 +401,12 @@ def _middle_ends(plane, skeleton, chains, sides, polylines):
     on one of its horns, whose mirror image is no end of the skeleton. Only on a surface that
     mirrors itself within symmetry.COPY_TOLERANCE (elsewhere an end off the plane is the shape's
     own), and not a limb whose end's mirror image is an end too (a leg that did not pair)."""
-    shape = symmetry.shape_plane(skeleton)
-    if shape is None or shape.error > symmetry.COPY_TOLERANCE:
+    if symmetry.copy_plane(skeleton) is None:
         return polylines
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     degree = _degrees(skeleton)
     ends = np.flatnonzero(degree == 1)
-    near = symmetry.MIRROR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
+    near = symmetry.tolerance(positions)
     result = list(polylines)
     for k, (limb, (side, _)) in enumerate(zip(chains, sides)):
         end = limb[-1][2]

@@ -118,7 +118,7 @@ def mirror_plane(points):
     return normal, offset, error
 
 
-def _tolerance(positions):
+def tolerance(positions):
     """MIRROR_TOLERANCE in the skeleton's units (its nodes' bounding-box diagonal)."""
     return MIRROR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
 
@@ -135,7 +135,7 @@ def skeleton_plane(skeleton):
         plane = Plane(np.asarray(found[0], dtype=float), float(found[1]), float(found[2]))
     else:
         plane = shape_plane(skeleton)
-    if plane is None or abs(plane.signed(positions[skeleton.root])) > _tolerance(positions):
+    if plane is None or abs(plane.signed(positions[skeleton.root])) > tolerance(positions):
         return None
     return plane
 
@@ -151,6 +151,13 @@ def shape_plane(skeleton):
     if error > SHAPE_TOLERANCE or not np.isclose(np.linalg.norm(plane[:3]), 1.0):
         return None
     return Plane(plane[:3], float(plane[3]), error)
+
+
+def copy_plane(skeleton):
+    """shape_plane(skeleton) when the surface mirrors itself within COPY_TOLERANCE (a limb may
+    then be made its partner's mirror image, copies_inside), else None."""
+    plane = shape_plane(skeleton)
+    return plane if plane is not None and plane.error <= COPY_TOLERANCE else None
 
 
 def limb_sides(skeleton, limb_points, limb_ends=None):
@@ -173,42 +180,41 @@ def pair_limbs(plane, skeleton, limb_points, limb_ends=None):
     none = [(None, -1)] * len(limb_points)
     if plane is None:
         return none
-    tolerance = _tolerance(np.asarray(skeleton.positions, dtype=float).reshape(-1, 3))
+    near = tolerance(np.asarray(skeleton.positions, dtype=float).reshape(-1, 3))
     centres = np.array([np.mean(points, axis=0) for points in limb_points]).reshape(-1, 3)
     signed = plane.signed(centres)
-    left, right = np.flatnonzero(signed > tolerance), np.flatnonzero(signed < -tolerance)
+    left, right = np.flatnonzero(signed > near), np.flatnonzero(signed < -near)
     if not len(left) or not len(right):
         return none
     gaps = np.linalg.norm(plane.reflect(centres[left])[:, None] - centres[right][None], axis=2)
     starts = np.array([points[0] for points in limb_points]).reshape(-1, 3)
     shared = (starts[left][:, None] == starts[right][None]).all(axis=2)  # one node
-    gaps[shared & (np.abs(plane.signed(starts[left]))[:, None] > tolerance)] = np.inf
+    gaps[shared & (np.abs(plane.signed(starts[left]))[:, None] > near)] = np.inf
     if limb_ends is not None:
         kinds = np.array([str(k) for k in skeleton.kinds])[np.asarray(limb_ends, dtype=int)]
         gaps[kinds[left][:, None] != kinds[right][None]] = np.inf
     result = list(none)
     for row, i in enumerate(left):
         column = int(gaps[row].argmin())
-        if gaps[:, column].argmin() == row and gaps[row, column] <= 2 * tolerance:
+        if gaps[:, column].argmin() == row and gaps[row, column] <= 2 * near:
             result[i], result[right[column]] = ("L", row), ("R", row)
     return result
 
 
-def pair_by_ends(plane, skeleton, limb_starts, limb_ends, sides):
+def pair_by_ends(plane, skeleton, limb_starts, limb_ends, tips, sides):
     """`sides` (pair_limbs') with more pairs on a shape that mirrors itself: two limbs that did
     not pair, end at end nodes of one kind off the plane that mirror each other and start at one
     node on the plane (or at two that mirror each other), all within MIRROR_TOLERANCE, pair
     though their paths differ (Q_Horse's front legs: one runs along the belly from the hips,
     its mirror image does not). The planner then gives the .R limb the mirror image of the .L
-    one where the shape allows (copies_inside). The .L limb is the one on the normal's side."""
+    one where the shape allows (copies_inside). The .L limb is the one on the normal's side.
+    tips: per limb, whether its end node has degree 1."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    tolerance = _tolerance(positions)
+    near = tolerance(positions)
     kinds = np.array([str(k) for k in skeleton.kinds])
-    degree = np.bincount(np.asarray(skeleton.links, dtype=np.int64).ravel(),
-                         minlength=len(positions))
     free = [k for k, (side, _) in enumerate(sides) if side is None
-            and degree[limb_ends[k]] == 1 and kinds[limb_ends[k]] == "end"
-            and abs(plane.signed(positions[limb_ends[k]])) > tolerance]
+            and tips[k] and kinds[limb_ends[k]] == "end"
+            and abs(plane.signed(positions[limb_ends[k]])) > near]
     result = list(sides)
     pair = max([number for _, number in sides] + [-1]) + 1
     for a in (k for k in free if plane.signed(positions[limb_ends[k]]) > 0):
@@ -219,7 +225,7 @@ def pair_by_ends(plane, skeleton, limb_starts, limb_ends, sides):
             start_gap = (abs(plane.signed(positions[limb_starts[a]]))
                          if limb_starts[a] == limb_starts[b]
                          else np.linalg.norm(image[1] - positions[limb_starts[b]]))
-            if end_gap <= tolerance and start_gap <= tolerance and (
+            if end_gap <= near and start_gap <= near and (
                     best is None or end_gap < best[0]):
                 best = (end_gap, b)
         if best is not None:
