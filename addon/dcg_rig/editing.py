@@ -138,7 +138,7 @@ def plan_of_armature(engine, arm_obj):
 
 
 def partner_name(name):
-    """The other side's name (``end.002.L`` / ``end.002.R``, ``LeftArm`` / ``RightArm``: the
+    """The other side's name (``arm.002.L`` / ``arm.002.R``, ``LeftArm`` / ``RightArm``: the
     pairs Blender's own mirror tools make, bpy.utils.flip_name), or None for a bone of the
     middle."""
     flipped = bpy.utils.flip_name(name)

@@ -20,8 +20,9 @@ WEIGHT_METHODS = (
 
 # How bones are named (dcg.bones.plan_bones' names, lower-cased).
 BONE_NAME_ITEMS = (
-    ("DCG", "Descriptive", "By kind and side: end.002.L, connection.004.R (X-Axis Mirror, "
-                           "Symmetrize and Paste Pose Flipped pair the sides)"),
+    ("DCG", "Descriptive", "By what each limb is and its side: spine.001, head.002, "
+                           "front_leg.003.L, arm.002.R, tail.004 (X-Axis Mirror, Symmetrize "
+                           "and Paste Pose Flipped pair the sides)"),
     ("MIXAMO", "Mixamo", "A humanoid's bones named and counted after Mixamo's rig (Hips, "
                          "Spine, LeftArm, LeftForeArm, LeftUpLeg, ...), so that animations "
                          "made for it retarget; other shapes keep the descriptive names"),

@@ -23,15 +23,15 @@ the joint sits inside the rounded tip, where an artist's last joint goes).
 Bone kinds: a bone whose tail is a skeleton node takes that node's kind ("end", "joint",
 "connection"); a bone whose tail is an inner polyline point is a "connection" (such points
 have two neighbours, like connection nodes); `link` is the link of the bone's last
-segment. Names are the kind plus a counter per kind, in creation order: ``end.001``,
-``joint.001``, ``connection.012``.
+segment. Names are the limb's (`dcg.naming`: ``spine``, ``head``, ``tail``, ``arm``,
+``front_leg``, ...) plus a counter per name from the root outward: ``spine.001``, ``head.002``.
 
 Symmetry (`dcg.symmetry`): when the skeleton has a mirror plane through its root, the limbs
 on either side that mirror each other (and end at nodes of one kind; on a surface that mirrors
 itself, also those whose ends and starts mirror each other) pair: both get the same
 joints, fitted once on their mean, one limb's the mirror images of the other's, and
 Blender's side suffixes, the two chains sharing their counters bone by bone
-(``connection.004.L`` / ``connection.004.R``, ``end.002.L`` / ``end.002.R``: what X-Axis
+(``arm.001.L`` / ``arm.001.R``, ``hind_leg.003.L`` / ``hind_leg.003.R``: what X-Axis
 Mirror, Symmetrize and Paste Pose Flipped pair; a .R bone is named after its .L partner).
 The middle's joints (its limbs', the root) lie on the plane. Joints mirror exactly where they
 stay inside the mesh for it (`symmetrize`: within symmetry.MIRROR_REACH radii of their own
@@ -57,14 +57,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import rolls, symmetry
+from . import naming, rolls, symmetry
 from .symmetry import MIRROR_TOLERANCE, limb_sides, mirror_plane  # noqa: F401 (this API)
 
 KINDS = ("end", "joint", "connection")
 #: The default `bone_detail` (the add-on's panel, its CLI and `dcg batch` start from it).
 BONE_DETAIL = 0.5
-#: How bones are named: by kind ("dcg", the default) or after Mixamo's rig when the skeleton
-#: is humanoid ("mixamo", `dcg.humanoid`).
+#: How bones are named: by limb and side ("dcg", the default: `dcg.naming`) or after Mixamo's
+#: rig when the skeleton is humanoid ("mixamo", `dcg.humanoid`).
 BONE_NAME_CONVENTIONS = ("dcg", "mixamo")
 BONE_NAMES = "dcg"
 #: Bones per link of a limb at bone_detail 1 (capped by the limb's polyline segments).
@@ -288,9 +288,9 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
     (`symmetrize`). Each bone's roll comes from its chain (`dcg.rolls`). Segments shorter
     than 1e-6 of the skeleton's size are merged away (Blender deletes zero-length bones).
 
-    names: "dcg" (kind and counter, ``end.002.L``) or "mixamo" (`dcg.humanoid`: a humanoid
-    skeleton's bones named and counted after Mixamo's rig, ``LeftForeArm``; any other skeleton
-    keeps the "dcg" names). limb_fractions: {node: the fractions of arc length the inner joints
+    names: "dcg" (the limb's name and a counter, ``arm.002.L``: `dcg.naming`) or "mixamo"
+    (`dcg.humanoid`: a humanoid skeleton's bones named and counted after Mixamo's rig,
+    ``LeftForeArm``; any other skeleton keeps the "dcg" names). limb_fractions: {node: the fractions of arc length the inner joints
     of the limb that ends at that node are drawn to (see `articulations`)}: that limb gets one
     bone more than fractions (fewer if it has fewer polyline segments, then no fractions)
     instead of `bone_detail`'s count (what the "mixamo" plan asks for).
@@ -320,8 +320,8 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
     joints = limb_joints(plane, polylines, sides, wanted, min_length, fractions)
     if plane is not None:
         symmetrize(plane, skeleton, chains, sides, joints, polylines)
-    return _chain_bones(skeleton, chains, sides, joints, _references(plane, positions, sides,
-                                                                     joints))
+    frame = _references(plane, positions, sides, joints)
+    return _chain_bones(skeleton, chains, sides, plane, joints, frame)
 
 
 def check_bone_names(names):
@@ -641,20 +641,18 @@ def _references(plane, positions, sides, joints):
     return references, side, up
 
 
-def _chain_bones(skeleton, chains, sides, joints, frame):
+def _chain_bones(skeleton, chains, sides, plane, joints, frame):
     """The BoneSpecs of the limbs' chains (joints: LimbJoints per limb, final), in limb order:
-    named (a .R bone after its .L partner, so that the names pair even where their nodes'
-    kinds would not), parented, with END_INSET tails and each chain's rolls (frame: what
-    _references returns)."""
+    named after their chains (`dcg.naming`: a .R bone after its .L partner), parented, with
+    END_INSET tails and each chain's rolls (frame: what _references returns)."""
     references, side_axis, up = frame
     kinds = [str(k) for k in skeleton.kinds]
     degree = _degrees(skeleton)
     bone_kinds = [[kinds[n] if n >= 0 else "connection" for n in limb_points.nodes[1:]]
                   for limb_points in joints]
-    name_kinds = list(bone_kinds)
-    for i, j in _partners(sides).items():
-        name_kinds[j] = name_kinds[i]
-    name_of = _namer()
+    chain_names = naming.chain_names(skeleton, chains, sides, plane,
+                                     [limb_points.points for limb_points in joints])
+    name_of = naming.namer()
     tail_bone = {}  # node -> name of the bone whose tail is that node
     bones = []
     for k, (limb, (side, pair), limb_points) in enumerate(zip(chains, sides, joints)):
@@ -662,7 +660,7 @@ def _chain_bones(skeleton, chains, sides, joints, frame):
         z_axes = rolls.z_axes(heads, tails, references[k], side_axis, up)
         parent, first_tree = tail_bone.get(limb[0][1]), limb[0][3]
         for i, (head, tail, z_axis) in enumerate(zip(heads, tails, z_axes)):
-            name = name_of(name_kinds[k][i], side, pair, i)
+            name = name_of(chain_names[k], side, pair, i)
             bones.append(BoneSpec(
                 name, head, tail, parent, parent is not None and (i > 0 or first_tree),
                 bone_kinds[k][i], int(limb_points.nodes[i + 1]), int(limb_points.links[i]),
@@ -698,25 +696,6 @@ def _paired_counts(counts, segments, sides):
         for i in members:
             counts[i] = shared
     return counts
-
-
-def _namer():
-    """name(kind, side, pair, index): the kind plus a counter per kind (``end.001``); for a
-    limb with a side ("L"/"R") the side suffix too, the two limbs of a pair sharing their
-    counters bone by bone (``end.003.L`` / ``end.003.R``), counted apart from the others."""
-    counters, waiting = {}, {}
-
-    def name(kind, side=None, pair=-1, index=0):
-        if side is None:
-            counters[kind] = counters.get(kind, 0) + 1
-            return f"{kind}.{counters[kind]:03d}"
-        number = waiting.pop((pair, index, kind), None)
-        if number is None:
-            counters[kind, "sided"] = number = counters.get((kind, "sided"), 0) + 1
-            if pair >= 0:
-                waiting[pair, index, kind] = number
-        return f"{kind}.{number:03d}.{side}"
-    return name
 
 
 def _drop_short(points, keep, min_length):

@@ -53,7 +53,8 @@ def test_plan_bones_one_chain_per_link_parents_first():
         assert spec.parent is None or spec.parent in seen
         seen.add(spec.name)
     ends = sorted(s.name for s in plan if s.kind == "end")
-    assert ends == ["end.001", "end.001.L", "end.001.R"]  # the two lower arms mirror
+    # The two lower arms mirror each other and stand on the ground: legs; the upper one the head.
+    assert ends == ["head.003", "leg.001.L", "leg.001.R"]
     assert {s.node for s in plan if s.kind == "end"} == {1, 2, 3}
     assert all(np.linalg.norm(s.tail - s.head) > 0 for s in plan)
 
@@ -61,8 +62,8 @@ def test_plan_bones_one_chain_per_link_parents_first():
 def test_the_first_arm_is_a_connected_chain_of_its_polyline(no_inset):
     plan = bones.plan_bones(y_shape(), bone_detail=1.0)
     arm = [s for s in plan if s.link == 0]
-    assert [s.name for s in arm] == ["connection.001", "connection.002", "end.001"]
-    assert [s.parent for s in arm] == [None, "connection.001", "connection.002"]
+    assert [s.name for s in arm] == ["head.001", "head.002", "head.003"]
+    assert [s.parent for s in arm] == [None, "head.001", "head.002"]
     assert [s.use_connect for s in arm] == [False, True, True]
     assert np.allclose([s.head for s in arm], y_shape().polylines[0][:-1])
     assert np.allclose([s.tail for s in arm], y_shape().polylines[0][1:])
@@ -80,8 +81,8 @@ def test_chains_run_away_from_the_root_whatever_the_links_order(no_inset):
     skeleton = path_from_an_end()
     plan = bones.plan_bones(skeleton, bone_detail=0.0)
     assert [(s.name, s.parent, s.use_connect) for s in plan] == [
-        ("joint.001", None, False), ("end.001", "joint.001", True),
-        ("end.002", "joint.001", True)]
+        ("spine.001", None, False), ("limb1.001", "spine.001", True),
+        ("limb2.001", "spine.001", True)]  # no mirror plane: limbs, numbered in plan order
     assert np.allclose(plan[0].head, skeleton.positions[0])
     assert np.allclose(plan[1].head, skeleton.positions[1])
     assert np.allclose(plan[1].tail, skeleton.positions[2])  # link [2, 1] taken backwards
@@ -257,7 +258,7 @@ def test_paired_limbs_get_mirrored_names_and_the_middle_keeps_its_own():
         assert np.allclose(names[name].tail * [-1, 1, 1], other.tail)
         assert names[name].head[0] >= 0 and names[name].tail[0] > 0  # .L on +X
     middle = [n for n in names if not n.endswith((".L", ".R"))]
-    assert sorted(middle) == ["end.001", "joint.001"]  # the spine
+    assert sorted(middle) == ["head.001", "spine.001"]
     normal, offset, error = bones.mirror_plane(body().positions)
     assert np.allclose(normal, [1, 0, 0]) and abs(offset) < 1e-9 and error < 1e-9
 
@@ -269,7 +270,7 @@ def test_a_small_asymmetry_is_tolerated_a_large_one_is_not():
     skewed = bones.plan_bones(body(lean=0.9, arm_drop=1.5), bone_detail=1.0)
     assert not any(s.name.endswith((".L", ".R")) for s in skewed)
     assert sorted(s.name for s in skewed if s.kind == "end") == [
-        "end.001", "end.002", "end.003", "end.004", "end.005"]
+        "limb1.002", "limb2.002", "limb3.001", "limb4.002", "limb5.002"]  # limbs in plan order
 
 
 # --- symmetry: paired limbs mirror each other, the middle lies on the plane --------------------
@@ -333,7 +334,7 @@ def test_joints_move_at_most_their_reach_toward_a_far_partner(no_inset):
     plane = bones.plan_plane(skeleton)
     assert np.allclose(plane.normal, [1, 0, 0], atol=1e-6) and abs(plane.offset) < 1e-6
     hands = {spec.name: spec for spec in plan if spec.node in (8, 10)}
-    left, right = hands["end.002.L"], hands["end.002.R"]
+    left, right = hands["arm.001.L"], hands["arm.001.R"]
     reach = bones.symmetry.MIRROR_REACH * 0.05
     for spec, node in ((left, 8), (right, 10)):
         assert np.linalg.norm(spec.tail - skeleton.positions[node]) == pytest.approx(reach)
@@ -361,13 +362,13 @@ def test_a_pair_too_far_apart_mirrors_exactly_when_the_shape_mirrors_itself(no_i
         assert np.allclose(plane.reflect(left.head), right.head, atol=1e-12)
         assert np.allclose(plane.reflect(left.tail), right.tail, atol=1e-12)
     hands = {spec.name: spec for spec in plan if spec.node in (8, 10)}
-    assert np.allclose(hands["end.002.L"].tail, skeleton.positions[8])
+    assert np.allclose(hands["arm.001.L"].tail, skeleton.positions[8])
     skeleton.mirror_error = 0.004
     assert 0.004 > bones.symmetry.COPY_TOLERANCE
     assert np.allclose(bones.plan_plane(skeleton).normal, [1, 0, 0])  # still the shape's plane
     hands = {spec.name: spec for spec in bones.plan_bones(skeleton, bone_detail=0.0)
              if spec.node in (8, 10)}
-    gap = np.linalg.norm(plane.reflect(hands["end.002.L"].tail) - hands["end.002.R"].tail)
+    gap = np.linalg.norm(plane.reflect(hands["arm.001.L"].tail) - hands["arm.001.R"].tail)
     assert gap == pytest.approx(0.2 - 2 * bones.symmetry.MIRROR_REACH * 0.05)
 
 

@@ -1,0 +1,200 @@
+"""Descriptive bone names (no `bpy`: plain pytest tests it): each limb's chain of bones is named
+after what the limb is, so that an animator reads the rig in Blender's outliner.
+
+    names = naming.chain_names(skeleton, chains, sides, plane, limb_points)   # one per limb
+    name_of = naming.namer()           # name_of("hind_leg", "L", pair, index) -> hind_leg.002.L
+
+What a limb is follows from the skeleton's shape, not from a template. Up is the axis along
+which the most ends stand on the ground (`up_axis`: +Z, Blender's, on ties). On a shape with a
+mirror plane:
+
+- a limb that ends at an end (a prong's tip) and pairs with its mirror image is a **leg** when
+  its end stands on the ground (within GROUND of the skeleton's height above its lowest node),
+  else an **arm**; several pairs of legs are numbered from the head outward (``leg1``, ``leg2``,
+  ...), two pairs are ``front_leg`` and ``hind_leg``; FINGERS or more paired tips leaving one
+  node off the plane are **finger**s (a hand's) or **toe**s (on the ground: a foot's);
+- an unpaired limb that starts or ends on the plane and ends at an end is the **head** when
+  its end is the highest of them off the ground, else a **tail** (``tail1``, ``tail2``, ...
+  when several), or a **leg** when its end stands on the ground off the plane (two legs that
+  the skeleton runs down between as one); an unpaired limb off the plane is a leg or an arm;
+- a limb between two joints is the **spine** in the middle; on a side, it takes the name of
+  the limbs it leads to when they share one (an arm's upper part before the fingers branch),
+  else it is a **limb**; a link that closes a cycle is a **loop**.
+
+A shape with no mirror plane has no sides to tell legs from arms by, or a head from a tail:
+its tips are **limb**s (``limb1``, ``limb2``, ...), the rest the **spine**.
+
+Bones are numbered along each name from the root outward (``spine.001``, ``spine.002``, ...),
+and a pair's two chains share their numbers bone by bone with Blender's side suffixes
+(``arm.003.L`` / ``arm.003.R``): what X-Axis Mirror, Symmetrize and Paste Pose Flipped pair.
+Each bone's kind (end, joint, connection) stays in BoneSpec.kind.
+"""
+
+import numpy as np
+
+from . import symmetry
+
+#: An end stands on the ground when it lies within this fraction of the skeleton's height
+#: (along `up_axis`) above its lowest node: a leg's foot, not a hand or a wing tip.
+GROUND = 0.15
+#: Paired tips that leave one node off the mirror plane, at least this many: a hand's fingers
+#: (or a foot's toes), not two limbs that fork.
+FINGERS = 3
+#: Up is an axis along which the skeleton spreads at least this fraction of its widest extent
+#: (see `up_axis`).
+SPREAD = 0.25
+#: The candidate up directions in order of preference when as many ends stand on the ground
+#: along each: Blender's +Z, then +Y (OBJ's and glTF's up), then the rest.
+UP_CANDIDATES = np.array([[0, 0, 1], [0, 1, 0], [1, 0, 0], [0, 0, -1], [0, -1, 0], [-1, 0, 0]],
+                         dtype=float)
+
+
+def up_axis(positions, ends, plane=None):
+    """The skeleton's up (a unit 3-vector): of UP_CANDIDATES, those within 60 degrees of the
+    mirror plane (up lies in it) along which the nodes (#N by 3 `positions`) spread at least
+    SPREAD times as far as along the widest such (not a T-pose's depth, where every end stands
+    at the front), the one with the most of `ends` (node indices) standing on the ground at its
+    bottom (within GROUND of the height); the first such on ties."""
+    positions = np.asarray(positions, dtype=float).reshape(-1, 3)
+    axes = [axis for axis in UP_CANDIDATES
+            if plane is None or abs(float(axis @ plane.normal)) <= 0.5]
+    spans = [float(np.ptp(positions @ axis)) for axis in axes]
+    best, best_score = UP_CANDIDATES[0], -1
+    for axis, span in zip(axes, spans):
+        if span < SPREAD * max(spans):
+            continue
+        height = positions @ axis
+        score = int((height[ends] <= height.min() + GROUND * span).sum())
+        if score > best_score:
+            best, best_score = axis, score
+    return best
+
+
+def chain_names(skeleton, chains, sides, plane, limb_points):
+    """The name of each limb's chain (chains: dcg.bones.limbs; sides: (side, pair) per limb;
+    plane: the plan's mirror plane or None; limb_points: each limb's joints, first to last, as
+    planned), as the module's text says; a .R limb gets its .L partner's name."""
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
+    degree = np.bincount(links.ravel(), minlength=len(positions))
+    starts = [limb[0][1] for limb in chains]
+    ends = [limb[-1][2] for limb in chains]
+    tips = [bool(limb[-1][3] and degree[end] == 1) for limb, end in zip(chains, ends)]
+    up = up_axis(positions, [end for end, tip in zip(ends, tips) if tip], plane)
+    height = positions @ up
+    ground = height.min() + GROUND * np.ptp(height)
+    grounded = [height[end] <= ground for end in ends]
+    middle = _middle(plane, positions, limb_points, tips, sides)
+    off_plane = [plane is not None and abs(plane.signed(np.asarray(points)[-1]))
+                 > symmetry.tolerance(positions) for points in limb_points]
+    highest = [k for k in middle if not grounded[k]]
+    head = max(highest, key=lambda k: height[ends[k]]) if highest else None
+    base = []
+    fanned = _fanned(plane, positions, starts, tips, sides)
+    for k, (tip, (side, _)) in enumerate(zip(tips, sides)):
+        if not chains[k][0][3]:
+            base.append("loop")
+        elif not tip:
+            base.append("spine" if side is None else "limb")
+        elif plane is None:
+            base.append("limb")
+        elif k == head:
+            base.append("head")
+        elif k in middle and not (grounded[k] and off_plane[k]):
+            base.append("tail")
+        elif fanned.get(starts[k], 0) >= FINGERS:
+            base.append("toe" if grounded[k] else "finger")
+        else:
+            base.append("leg" if grounded[k] else "arm")
+    names = _numbered(positions, base, ends, tips, sides, head)
+    _inherit(names, base, starts, ends, sides, chains)
+    right = {pair: j for j, (side, pair) in enumerate(sides) if side == "R"}
+    for i, (side, pair) in enumerate(sides):
+        if side == "L" and pair in right:
+            names[right[pair]] = names[i]
+    return names
+
+
+def _middle(plane, positions, limb_points, tips, sides):
+    """The tips of the middle: the unpaired tips that start or end on the mirror plane (a tail;
+    not a leg that did not pair, off the plane); none without a plane."""
+    if plane is None:
+        return []
+    near = symmetry.tolerance(positions)
+    return [k for k, (tip, (side, _)) in enumerate(zip(tips, sides))
+            if tip and side is None
+            and np.abs(plane.signed(np.asarray(limb_points[k])[[0, -1]])).min() <= near]
+
+
+def _fanned(plane, positions, starts, tips, sides):
+    """{node off the mirror plane: the paired tips that start there}."""
+    fanned = {}
+    if plane is None:
+        return fanned
+    near = symmetry.tolerance(positions)
+    for start, tip, (side, _) in zip(starts, tips, sides):
+        if tip and side is not None and abs(plane.signed(positions[start])) > near:
+            fanned[start] = fanned.get(start, 0) + 1
+    return fanned
+
+
+def _numbered(positions, base, ends, tips, sides, head):
+    """The names from the base names: a tip's kind shared by several limbs (a pair counts once)
+    numbered from the head outward (``leg1``, ``leg2``; two legs: ``front_leg``, ``hind_leg``)."""
+    groups = {}
+    for k, (name, tip, (side, _)) in enumerate(zip(base, tips, sides)):
+        if tip and name != "head" and side != "R":
+            groups.setdefault(name, []).append(k)
+    names = list(base)
+    for name, members in groups.items():
+        if len(members) < 2:
+            continue
+        if head is not None:
+            members = sorted(members, key=lambda k: float(np.linalg.norm(
+                positions[ends[k]] - positions[ends[head]])))
+        if name == "leg" and len(members) == 2 and head is not None \
+                and all(sides[k][0] for k in members):
+            labels = ["front_leg", "hind_leg"]
+        else:
+            labels = [f"{name}{i}" for i in range(1, len(members) + 1)]
+        for k, label in zip(members, labels):
+            names[k] = label
+    return names
+
+
+def _inherit(names, base, starts, ends, sides, chains):
+    """A side's limb between joints ("limb") takes the name of the limbs beyond it when they all
+    have one (fingers and toes aside: the arm or leg they hang from), breadth-first outward so
+    a chain of such limbs passes the name back to the body."""
+    beyond = {}
+    for k, start in enumerate(starts):
+        beyond.setdefault(start, []).append(k)
+    for k in reversed(range(len(chains))):
+        if base[k] != "limb" or sides[k][0] is None:
+            continue
+        below = [c for c in beyond.get(ends[k], []) if c != k]
+        own = {names[c] for c in below if base[c] not in ("finger", "toe")}
+        kinds = {base[c] for c in below}
+        if len(own) == 1:
+            names[k] = own.pop()
+        elif not own and kinds and kinds <= {"finger", "toe"}:
+            names[k] = "arm" if kinds == {"finger"} else "leg"
+
+
+def namer():
+    """name(chain, side, pair, index): the chain's name plus a counter per name (``spine.001``);
+    for a limb with a side ("L"/"R") the side suffix too, the two limbs of a pair sharing their
+    counters bone by bone (``arm.003.L`` / ``arm.003.R``)."""
+    counters, waiting = {}, {}
+
+    def name(chain, side=None, pair=-1, index=0):
+        if side is None:
+            counters[chain] = counters.get(chain, 0) + 1
+            return f"{chain}.{counters[chain]:03d}"
+        number = waiting.pop((pair, index, chain), None)
+        if number is None:
+            counters[chain, "sided"] = number = counters.get((chain, "sided"), 0) + 1
+            if pair >= 0:
+                waiting[pair, index, chain] = number
+        return f"{chain}.{number:03d}.{side}"
+    return name

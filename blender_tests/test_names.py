@@ -1,0 +1,60 @@
+"""Bone names in Blender (dcg.naming): public meshes loaded the way a user loads them come out
+with their limbs' names (legs, arms, head, tail), read the way the model stands in the viewport,
+and Blender's own mirror naming pairs the sides."""
+
+import os
+import re
+from pathlib import Path
+
+import bpy
+import numpy as np
+import pytest
+
+MESHES = Path(os.environ.get("DCG_MESHES", ""))
+#: The limbs each public mesh's rig names (the spine aside).
+LIMBS = {
+    "spot.obj": {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head"},
+    "cow.off": {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head", "tail"},
+    "knight.off": {"arm.L", "arm.R", "leg.L", "leg.R", "head"},
+}
+#: Each file's up axis (the loader's Up Axis): these OFF files are Y up, as the OBJ convention.
+UP = {"spot.obj": "AUTO", "cow.off": "Y", "knight.off": "Y"}
+
+
+def rigged(name):
+    path = MESHES / name
+    if not path.is_file():
+        pytest.skip(f"{path} not found (set DCG_MESHES)")
+    bpy.ops.dcg.load_mesh(filepath=str(path), up_axis=UP[name])
+    mesh = bpy.context.active_object
+    assert bpy.ops.object.dcg_auto_rig(weights="NONE") == {"FINISHED"}
+    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    return mesh, arm
+
+
+@pytest.mark.parametrize("name", sorted(LIMBS))
+def test_limbs_are_named_after_what_they_are(name, dcg):
+    mesh, arm = rigged(name)
+    chains = {re.sub(r"\.\d{3}", "", bone.name) for bone in arm.data.bones}
+    assert chains - {"spine"} == LIMBS[name]
+    for bone in arm.data.bones:  # Blender's mirror naming pairs the sides
+        flipped = bpy.utils.flip_name(bone.name)
+        assert (flipped != bone.name) == bone.name.endswith((".L", ".R"))
+        assert flipped in arm.data.bones
+
+
+@pytest.mark.parametrize("name", sorted(LIMBS))
+def test_legs_stand_on_the_ground_and_the_head_is_highest(name, dcg):
+    # Loaded standing (Blender's Z up), the legs are the limbs that reach the floor.
+    mesh, arm = rigged(name)
+    heights = np.array([(mesh.matrix_world @ v.co).z for v in mesh.data.vertices])
+    ground = heights.min() + 0.2 * np.ptp(heights)
+
+    def tip_height(chain):
+        tips = [b for b in arm.data.bones if re.sub(r"\.\d{3}", "", b.name) == chain
+                and not b.children]
+        return max((arm.matrix_world @ b.tail_local).z for b in tips)
+
+    legs = [c for c in LIMBS[name] if "leg" in c]
+    assert legs and all(tip_height(chain) <= ground for chain in legs)
+    assert tip_height("head") == max(tip_height(chain) for chain in LIMBS[name])
