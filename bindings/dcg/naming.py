@@ -5,8 +5,8 @@ after what the limb is, so that an animator reads the rig in Blender's outliner.
     name_of = naming.namer()           # name_of("hind_leg", "L", pair, index) -> hind_leg.002.L
 
 What a limb is follows from the skeleton's shape, not from a template. Up is the axis along
-which the most ends stand on the ground (`up_axis`: +Z, Blender's, on ties). On a shape with a
-mirror plane:
+which the most ends stand on the ground (`up_axis`: +Z, Blender's, on ties; of a model turned
+away from the axes, the direction in its mirror plane). On a shape with a mirror plane:
 
 - a limb that ends at an end (a prong's tip) and pairs with its mirror image is a **leg** when
   its end stands on the ground (within GROUND of the skeleton's height above its lowest node),
@@ -43,6 +43,10 @@ FINGERS = 3
 #: Up is an axis along which the skeleton spreads at least this fraction of its widest extent
 #: (see `up_axis`).
 SPREAD = 0.25
+#: An axis within this many degrees of the mirror plane may be up (a model built along the
+#: axes); a plane turned farther from all of them is searched UP_CIRCLE directions around.
+ALIGNED = 15.0
+UP_CIRCLE = 24
 #: The candidate up directions in order of preference when as many ends stand on the ground
 #: along each: Blender's +Z, then +Y (OBJ's and glTF's up), then the rest.
 UP_CANDIDATES = np.array([[0, 0, 1], [0, 1, 0], [1, 0, 0], [0, 0, -1], [0, -1, 0], [-1, 0, 0]],
@@ -50,16 +54,15 @@ UP_CANDIDATES = np.array([[0, 0, 1], [0, 1, 0], [1, 0, 0], [0, 0, -1], [0, -1, 0
 
 
 def up_axis(positions, ends, plane=None):
-    """The skeleton's up (a unit 3-vector): of UP_CANDIDATES, those within 60 degrees of the
-    mirror plane (up lies in it) along which the nodes (#N by 3 `positions`) spread at least
-    SPREAD times as far as along the widest such (not a T-pose's depth, where every end stands
-    at the front), the one with the most of `ends` (node indices) standing on the ground at its
-    bottom (within GROUND of the height); the first such on ties."""
+    """The skeleton's up (a unit 3-vector): of the candidates (`_up_candidates`), those along
+    which the nodes (#N by 3 `positions`) spread at least SPREAD times as far as along the widest
+    (not a T-pose's depth, where every end stands at the front), the one with the most of `ends`
+    (node indices) standing on the ground at its bottom (within GROUND of the height); the first
+    such on ties."""
     positions = np.asarray(positions, dtype=float).reshape(-1, 3)
-    axes = [axis for axis in UP_CANDIDATES
-            if plane is None or abs(float(axis @ plane.normal)) <= 0.5]
+    axes = _up_candidates(plane)
     spans = [float(np.ptp(positions @ axis)) for axis in axes]
-    best, best_score = UP_CANDIDATES[0], -1
+    best, best_score = axes[0], -1
     for axis, span in zip(axes, spans):
         if span < SPREAD * max(spans):
             continue
@@ -68,6 +71,24 @@ def up_axis(positions, ends, plane=None):
         if score > best_score:
             best, best_score = axis, score
     return best
+
+
+def _up_candidates(plane):
+    """UP_CANDIDATES; with a mirror plane (up lies in it), those within ALIGNED of it, moved into
+    it; when the plane is turned away from the axes (none is), UP_CIRCLE directions around it."""
+    if plane is None:
+        return list(UP_CANDIDATES)
+    normal = np.asarray(plane.normal, dtype=float)
+    axes = [axis - (axis @ normal) * normal for axis in UP_CANDIDATES
+            if abs(float(axis @ normal)) <= np.sin(np.radians(ALIGNED))]
+    if axes:
+        return [axis / np.linalg.norm(axis) for axis in axes]
+    first = UP_CANDIDATES[int(np.argmin(np.abs(UP_CANDIDATES @ normal)))]
+    first = first - (first @ normal) * normal
+    first /= np.linalg.norm(first)
+    second = np.cross(normal, first)
+    angles = np.linspace(0, 2 * np.pi, UP_CIRCLE, endpoint=False)
+    return [np.cos(a) * first + np.sin(a) * second for a in angles]
 
 
 def chain_names(skeleton, chains, sides, plane, limb_points):

@@ -59,6 +59,18 @@ def test_the_names_follow_the_ground_not_the_axes():
                                           bones.plan_plane(turned)), up)
 
 
+@pytest.mark.parametrize("seed", range(5))
+def test_any_orientation_gives_paired_names(seed):
+    # A plane turned away from every axis (no candidate up lies in it): still named, .L / .R
+    # pairing bone by bone.
+    matrix = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))[0]
+    plan = bones.plan_bones(rotated(quadruped(), matrix), bone_detail=0.0)
+    found = chains_of(plan)
+    assert len(plan) == 7
+    assert all(found[c] == found[c[:-1] + "R"] for c in found if c.endswith(".L"))
+    assert sum(c.endswith(".L") for c in found) == 2
+
+
 def test_a_quadruped_gets_front_and_hind_legs_a_head_and_a_tail():
     plan = bones.plan_bones(quadruped(), bone_detail=0.0)
     by_node = {spec.node: spec.name for spec in plan}
