@@ -545,10 +545,16 @@ Prongs ProngHierarchy::prongs(double tau) const {
                                       [&](const Peak* p) { return p->vertex == q.partner; });
     if (partner != kept.end() && is_mirror_twin(q, **partner)) twins.push_back(&q);
   }
-  kept.insert(kept.end(), twins.begin(), twins.end());  // still sorted by ratio
+  kept.insert(kept.end(), twins.begin(), twins.end());
+  // Fingers of a hand (see the class comment; cpp/src/prong_fingers.cpp).
+  const std::vector<const Peak*> hand = fingers(tau, kept);
+  kept.insert(kept.end(), hand.begin(), hand.end());
+  std::stable_sort(kept.begin(), kept.end(),
+                   [](const Peak* a, const Peak* b) { return a->ratio < b->ratio; });
   Prongs out;
   out.tau = tau;
   out.mirror_twins = static_cast<int>(twins.size());
+  out.fingers = static_cast<int>(hand.size());
   const auto k = static_cast<Eigen::Index>(kept.size());
   out.vertices.resize(k);
   out.positions.resize(k, 3);

@@ -294,6 +294,29 @@ TEST(Prongs, PublicMeshesMatchTheManifest) {
   EXPECT_GE(2 * matches, rows) << "most meshes must match";
 }
 
+// Mannequiny's hands have four fingers; its body is about 30 finger lengths tall, so their
+// ratios (0.94-0.97) lie past tau, beside spot's horns and ears (0.94-0.96) and cow's lone horn.
+// Two long fingers and a thumb of each hand are found as fingers (the fourth finger ends at the
+// hand's own end); no other public mesh has a hand of such peaks.
+TEST(Prongs, AHandsFingersAreProngsTooAndHornsAreNot) {
+  const std::string dir = test::meshes_dir();
+  if (!std::filesystem::exists(dir + "/rigged/Mannequiny.obj")) GTEST_SKIP() << dir;
+  const dcg::ProngFeatures body = prongs_of(dcg::read_mesh(dir + "/rigged/Mannequiny.obj"));
+  ASSERT_EQ(body.prongs.fingers, 6) << ratios(body, 20);
+  const Eigen::Index n = body.prongs.vertices.size();
+  int at_hands = 0;  // the hands are the farthest from the mirror plane x = 0
+  for (Eigen::Index i = 0; i < n; ++i) {
+    EXPECT_LT(body.prongs.significance[i], dcg::ProngHierarchy::kFingerRatio);
+    at_hands += body.prongs.significance[i] >= 0.85 && std::abs(body.prongs.positions(i, 0)) > 0.25;
+  }
+  EXPECT_EQ(at_hands, 6) << "every finger at a hand";
+  for (const char* name : {"spot.obj", "cow.off", "armadillo.obj", "rigged/Q_Dragon.obj"}) {
+    if (!std::filesystem::exists(dir + "/" + name)) continue;
+    const dcg::ProngFeatures other = prongs_of(dcg::read_mesh(dir + "/" + name));
+    EXPECT_EQ(other.prongs.fingers, 0) << name << ratios(other, 20);
+  }
+}
+
 // Spot's hind legs stand close: the second meets the first at the crotch (ratio 0.859, past tau)
 // and is kept as its mirror twin; armadillo's second ear mirrors the first (ratio 0.861) but is a
 // feature on the head, 0.26 of the mean geodesic distance long (kTwinLength 0.35), not a limb.

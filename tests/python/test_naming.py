@@ -113,6 +113,9 @@ def test_without_a_mirror_plane_tips_are_limbs():
     ("spot.obj", {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head"}),
     ("cow.off", {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head", "tail"}),
     ("knight.off", {"arm.L", "arm.R", "leg.L", "leg.R", "head"}),
+    # Its fingers (the engine's Prongs.fingers) and the hand's own end fan from one node.
+    ("rigged/Mannequiny.obj", {"arm.L", "arm.R", "leg.L", "leg.R", "head"}
+     | {f"finger{i}.{side}" for i in range(1, 5) for side in "LR"}),
 ])
 def test_public_meshes_get_the_names_of_their_limbs(meshes_dir, name, chains):
     V, F = dcg.load_mesh(str(meshes_dir / name))

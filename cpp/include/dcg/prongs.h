@@ -78,6 +78,8 @@ struct Prongs {
   Eigen::VectorXd significance;  ///< #P ratios valley / peak, increasing
   /// Of those, prongs kept as the mirror twin of a prong (ratio >= tau; see ProngHierarchy).
   int mirror_twins = 0;
+  /// Of those, prongs kept as fingers of a hand (ratio >= tau; see ProngHierarchy).
+  int fingers = 0;
 };
 
 /// The watershed of f, done once: every peak with its ratio. Re-thresholding is cheap.
@@ -91,6 +93,17 @@ struct Prongs {
 /// mesh at most kTwinMirror of its bounding-box diagonal), and it is a limb, not a feature on
 /// one (an ear beside an ear): its geodesic distance to the crotch at least kTwinLength times
 /// the mean of f (f being the mean geodesic distance, that is the shape's own size).
+///
+/// Fingers: a hand's fingers are small next to the body, so their ratios lie past tau (0.94 on
+/// a character whose body is 30 finger lengths tall), with a horn's or an ear's. What tells
+/// them apart is their shape and number: a finger is long and thin, and a hand has several
+/// side by side. A peak is also a prong, at any tau, when its ratio is below kFingerRatio, its
+/// region above its valley (at most kFingerVertices of the mesh) is at least kFingerAspect
+/// times as long (from its base's centre to its farthest point) as its base is wide (the mean
+/// distance of the base's vertices to their centre), and at least kFingerCount such peaks that
+/// end in one prong's region stand within kFingerSpread lengths of each other; then also the
+/// peaks beside them (within kFingerSpread lengths) at least kThumbAspect times as long as
+/// wide (a thumb, shorter).
 class ProngHierarchy {
  public:
   ProngHierarchy() = default;
@@ -108,6 +121,12 @@ class ProngHierarchy {
   static constexpr double kTwinRatio = 0.9;
   static constexpr double kTwinMirror = 0.02;
   static constexpr double kTwinLength = 0.35;
+  static constexpr double kFingerRatio = 0.99;
+  static constexpr double kFingerVertices = 0.02;
+  static constexpr double kFingerAspect = 4.0;
+  static constexpr int kFingerCount = 2;
+  static constexpr double kFingerSpread = 3.0;
+  static constexpr double kThumbAspect = 2.0;
   /// True when the cap {f >= tau * max f} around the global maximum has one boundary loop.
   bool global_cap_is_disk(double tau) const;
 
@@ -115,6 +134,8 @@ class ProngHierarchy {
   bool cap_is_disk(int peak_vertex, double tau) const;
   bool is_mirror_twin(const Peak& twin, const Peak& partner) const;
   bool mirrors_mesh(int a, int b) const;  // the plane halfway between a and b mirrors it
+  // The peaks past tau kept as fingers (see the class comment); `kept`: the prongs so far.
+  std::vector<const Peak*> fingers(double tau, const std::vector<const Peak*>& kept) const;
 
   Mesh mesh_;
   Eigen::VectorXd f_;

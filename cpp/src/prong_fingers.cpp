@@ -1,0 +1,140 @@
+// Stage 3, fingers (dcg/prongs.h, ProngHierarchy's class comment): peaks past tau kept as
+// prongs because several long, thin ones stand side by side on one prong: a hand's fingers.
+//
+// Implementation notes:
+// - A peak's protrusion is its watershed region at its valley: the vertices with f above the
+//   valley connected to the peak, found by a flood fill that gives up past kFingerVertices of
+//   the mesh (a finger is small; a big region is a limb or the body, and the fill stays cheap).
+// - Its base is the region's vertices with a neighbour outside; length and width are measured
+//   from the base's centre, so they do not depend on the mesh's scale or orientation.
+// - Peaks are grouped by the prong their region ended in (following partners until a prong,
+//   else the last peak reached), then linked when they stand within kFingerSpread lengths of
+//   each other (union-find); a group of at least kFingerCount long, thin peaks is a hand.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "dcg/prongs.h"
+
+namespace dcg {
+namespace {
+
+struct Protrusion {
+  const Peak* peak = nullptr;
+  int hand = -1;        // vertex of the peak whose region it ended in (a prong where one is)
+  double length = 0;    // from its base's centre to its farthest vertex
+  double aspect = 0;    // length over the base's mean radius (0: too big, or no base)
+};
+
+// The region {f > valley} around a peak, flood-filled (mark[v] == stamp inside); false when it
+// grows past `cap` vertices.
+bool fill_region(const Eigen::VectorXd& f, const std::vector<int>& start,
+                 const std::vector<int>& adjacency, const Peak& peak, int cap,
+                 std::vector<int>& mark, int stamp, std::vector<int>& region) {
+  region.assign(1, peak.vertex);
+  mark[peak.vertex] = stamp;
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    const int u = region[i];
+    for (int e = start[u]; e < start[u + 1]; ++e) {
+      const int v = adjacency[e];
+      if (mark[v] == stamp || !(f[v] > peak.valley)) continue;
+      if (static_cast<int>(region.size()) >= cap) return false;
+      mark[v] = stamp;
+      region.push_back(v);
+    }
+  }
+  return true;
+}
+
+// Length and aspect of a filled region (see Protrusion).
+void measure(const Points& V, const std::vector<int>& start, const std::vector<int>& adjacency,
+             const std::vector<int>& mark, int stamp, const std::vector<int>& region,
+             Protrusion& out) {
+  Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
+  std::vector<int> base;
+  for (const int u : region) {
+    for (int e = start[u]; e < start[u + 1]; ++e) {
+      if (mark[adjacency[e]] != stamp) {
+        base.push_back(u);
+        centre += V.row(u);
+        break;
+      }
+    }
+  }
+  if (base.empty()) return;
+  centre /= static_cast<double>(base.size());
+  double radius = 0;
+  for (const int u : base) radius += (V.row(u) - centre).norm();
+  radius /= static_cast<double>(base.size());
+  for (const int u : region) out.length = std::max(out.length, (V.row(u) - centre).norm());
+  if (radius > 0) out.aspect = out.length / radius;
+}
+
+}  // namespace
+
+std::vector<const Peak*> ProngHierarchy::fingers(double tau,
+                                                 const std::vector<const Peak*>& kept) const {
+  constexpr std::size_t kMaxCandidates = 256;  // the strongest; a scan's noise adds thousands
+  const int n = static_cast<int>(f_.size());
+  std::unordered_map<int, const Peak*> by_vertex;
+  for (const Peak& p : peaks_) by_vertex[p.vertex] = &p;
+  std::unordered_set<int> prong_vertices;
+  for (const Peak* p : kept) prong_vertices.insert(p->vertex);
+
+  std::vector<Protrusion> found;
+  std::vector<int> mark(n, -1), region;
+  const int cap = std::max(1, static_cast<int>(kFingerVertices * n));
+  for (const Peak& q : peaks_) {
+    if (!(q.ratio < kFingerRatio) || found.size() >= kMaxCandidates) break;
+    if (q.ratio < tau || q.global || prong_vertices.count(q.vertex)) continue;
+    Protrusion t;
+    t.peak = &q;
+    const int stamp = static_cast<int>(found.size());
+    if (fill_region(f_, adjacency_start_, adjacency_, q, cap, mark, stamp, region))
+      measure(mesh_.V, adjacency_start_, adjacency_, mark, stamp, region, t);
+    t.hand = q.partner;
+    for (std::size_t steps = 0; steps < peaks_.size() && !prong_vertices.count(t.hand); ++steps) {
+      const auto next = by_vertex.find(t.hand);
+      if (next == by_vertex.end() || next->second->partner < 0) break;
+      t.hand = next->second->partner;
+    }
+    found.push_back(t);
+  }
+
+  // Long, thin peaks of one hand linked when close (union-find), then the groups big enough.
+  const auto close = [&](const Protrusion& a, const Protrusion& b) {
+    const double apart = (mesh_.V.row(a.peak->vertex) - mesh_.V.row(b.peak->vertex)).norm();
+    return a.hand == b.hand && apart <= kFingerSpread * std::max(a.length, b.length);
+  };
+  std::vector<int> group(found.size());
+  std::iota(group.begin(), group.end(), 0);
+  const auto find = [&](int x) {
+    while (group[x] != x) x = group[x] = group[group[x]];
+    return x;
+  };
+  for (std::size_t a = 0; a < found.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b)
+      if (found[a].aspect >= kFingerAspect && found[b].aspect >= kFingerAspect &&
+          close(found[a], found[b]))
+        group[find(static_cast<int>(a))] = find(static_cast<int>(b));
+  std::vector<int> members(found.size(), 0);
+  for (std::size_t a = 0; a < found.size(); ++a)
+    if (found[a].aspect >= kFingerAspect) ++members[find(static_cast<int>(a))];
+  std::vector<char> finger(found.size(), 0);
+  for (std::size_t a = 0; a < found.size(); ++a)
+    finger[a] = found[a].aspect >= kFingerAspect && members[find(static_cast<int>(a))] >= kFingerCount;
+  // A thumb: shorter, beside a finger of the same hand.
+  std::vector<const Peak*> out;
+  for (std::size_t a = 0; a < found.size(); ++a) {
+    bool thumb = false;
+    for (std::size_t b = 0; b < found.size() && !finger[a] && !thumb; ++b)
+      thumb = finger[b] && found[a].aspect >= kThumbAspect && close(found[a], found[b]);
+    if (finger[a] || thumb) out.push_back(found[a].peak);
+  }
+  return out;
+}
+
+}  // namespace dcg
