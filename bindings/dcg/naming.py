@@ -101,24 +101,38 @@ def chain_names(skeleton, chains, sides, plane, limb_points):
     starts = [limb[0][1] for limb in chains]
     ends = [limb[-1][2] for limb in chains]
     tips = [bool(limb[-1][3] and degree[end] == 1) for limb, end in zip(chains, ends)]
+    loops = [not limb[0][3] for limb in chains]
+    base, head = _base_names(positions, plane, sides, limb_points, starts, ends, tips, loops)
+    names = _numbered(positions, base, ends, tips, sides, head)
+    _inherit(names, base, starts, ends, sides)
+    right = {pair: j for j, (side, pair) in enumerate(sides) if side == "R"}
+    for i, (side, pair) in enumerate(sides):
+        if side == "L" and pair in right:
+            names[right[pair]] = names[i]
+    return names
+
+
+def _base_names(positions, plane, sides, limb_points, starts, ends, tips, loops):
+    """(each limb's name before numbering, the head's limb or None): see the module's text."""
     up = up_axis(positions, [end for end, tip in zip(ends, tips) if tip], plane)
     height = positions @ up
-    ground = height.min() + GROUND * np.ptp(height)
-    grounded = [height[end] <= ground for end in ends]
-    middle = _middle(plane, positions, limb_points, tips, sides)
-    off_plane = [plane is not None and abs(plane.signed(np.asarray(points)[-1]))
-                 > symmetry.tolerance(positions) for points in limb_points]
+    grounded = height[ends] <= height.min() + GROUND * np.ptp(height)
+    if plane is None:
+        return ["loop" if loop else "limb" if tip else "spine"
+                for tip, loop in zip(tips, loops)], None
+    near = symmetry.tolerance(positions)
+    last = np.array([np.asarray(points)[-1] for points in limb_points]).reshape(-1, 3)
+    off_plane = np.abs(plane.signed(last)) > near
+    middle = _middle(plane, near, limb_points, tips, sides)
     highest = [k for k in middle if not grounded[k]]
     head = max(highest, key=lambda k: height[ends[k]]) if highest else None
+    fanned = _fanned(plane, near, positions, starts, tips, sides)
     base = []
-    fanned = _fanned(plane, positions, starts, tips, sides)
-    for k, (tip, (side, _)) in enumerate(zip(tips, sides)):
-        if not chains[k][0][3]:
+    for k, (tip, loop, (side, _)) in enumerate(zip(tips, loops, sides)):
+        if loop:
             base.append("loop")
         elif not tip:
             base.append("spine" if side is None else "limb")
-        elif plane is None:
-            base.append("limb")
         elif k == head:
             base.append("head")
         elif k in middle and not (grounded[k] and off_plane[k]):
@@ -127,32 +141,20 @@ def chain_names(skeleton, chains, sides, plane, limb_points):
             base.append("toe" if grounded[k] else "finger")
         else:
             base.append("leg" if grounded[k] else "arm")
-    names = _numbered(positions, base, ends, tips, sides, head)
-    _inherit(names, base, starts, ends, sides, chains)
-    right = {pair: j for j, (side, pair) in enumerate(sides) if side == "R"}
-    for i, (side, pair) in enumerate(sides):
-        if side == "L" and pair in right:
-            names[right[pair]] = names[i]
-    return names
+    return base, head
 
 
-def _middle(plane, positions, limb_points, tips, sides):
-    """The tips of the middle: the unpaired tips that start or end on the mirror plane (a tail;
-    not a leg that did not pair, off the plane); none without a plane."""
-    if plane is None:
-        return []
-    near = symmetry.tolerance(positions)
+def _middle(plane, near, limb_points, tips, sides):
+    """The tips of the middle: the unpaired tips that start or end on the mirror plane, within
+    `near` of it (a tail; not a leg that did not pair, off the plane)."""
     return [k for k, (tip, (side, _)) in enumerate(zip(tips, sides))
             if tip and side is None
             and np.abs(plane.signed(np.asarray(limb_points[k])[[0, -1]])).min() <= near]
 
 
-def _fanned(plane, positions, starts, tips, sides):
-    """{node off the mirror plane: the paired tips that start there}."""
+def _fanned(plane, near, positions, starts, tips, sides):
+    """{node farther than `near` off the mirror plane: the paired tips that start there}."""
     fanned = {}
-    if plane is None:
-        return fanned
-    near = symmetry.tolerance(positions)
     for start, tip, (side, _) in zip(starts, tips, sides):
         if tip and side is not None and abs(plane.signed(positions[start])) > near:
             fanned[start] = fanned.get(start, 0) + 1
@@ -183,14 +185,14 @@ def _numbered(positions, base, ends, tips, sides, head):
     return names
 
 
-def _inherit(names, base, starts, ends, sides, chains):
+def _inherit(names, base, starts, ends, sides):
     """A side's limb between joints ("limb") takes the name of the limbs beyond it when they all
     have one (fingers and toes aside: the arm or leg they hang from), breadth-first outward so
     a chain of such limbs passes the name back to the body."""
     beyond = {}
     for k, start in enumerate(starts):
         beyond.setdefault(start, []).append(k)
-    for k in reversed(range(len(chains))):
+    for k in reversed(range(len(base))):
         if base[k] != "limb" or sides[k][0] is None:
             continue
         below = [c for c in beyond.get(ends[k], []) if c != k]
