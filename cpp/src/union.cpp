@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
@@ -44,6 +45,9 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = K::Point_3;
 using SM = CGAL::Surface_mesh<Point>;
+// Exact constructions, for a union whose rounded intersection points crossed (see unite_exactly).
+using EK = CGAL::Exact_predicates_exact_constructions_kernel;
+using ESM = CGAL::Surface_mesh<EK::Point_3>;
 
 // Whether triangles s and t cross each other (more than touch at a point they share: the copies
 // of a split pinched vertex): each shrunk by 1e-7 about its centroid still intersects the other.
@@ -157,12 +161,14 @@ bool all_of_parts(std::vector<SM>& parts, Test test) {
 // each round's pairs in parallel and `poll` called between rounds (from this thread only):
 // about half the time of uniting them one after the other into a growing mesh on 2 cores
 // (biped-30k, 8 parts). nullopt when a corefinement fails; CGAL's exceptions are passed on.
-std::optional<SM> unite_all(std::vector<SM> level, const std::function<void(double)>& poll) {
+template <class Surface>
+std::optional<Surface> unite_all(std::vector<Surface> level,
+                                 const std::function<void(double)>& poll) {
   double round = 0;
   while (level.size() > 1) {
     poll(0.3 + 0.6 * (1 - 1 / (1 + ++round)));
     const std::size_t pairs = level.size() / 2;
-    std::vector<SM> next(pairs);
+    std::vector<Surface> next(pairs);
     std::vector<char> ok(pairs, 0);
     std::vector<std::exception_ptr> error(pairs);
     tbb::parallel_for(std::size_t{0}, pairs, [&](std::size_t p) {
@@ -179,6 +185,60 @@ std::optional<SM> unite_all(std::vector<SM> level, const std::function<void(doub
     level = std::move(next);
   }
   return std::move(level.front());
+}
+
+// `from` with each point converted (the same vertices and faces, in order).
+template <class To, class From, class Convert>
+To with_points(const From& from, Convert convert) {
+  To to;
+  std::vector<typename To::Vertex_index> at(from.num_vertices());
+  for (const auto v : from.vertices()) at[v.idx()] = to.add_vertex(convert(from.point(v)));
+  std::vector<typename To::Vertex_index> corners;
+  for (const auto f : from.faces()) {
+    corners.clear();
+    for (const auto v : CGAL::vertices_around_face(from.halfedge(f), from))
+      corners.push_back(at[v.idx()]);
+    to.add_face(corners);
+  }
+  return to;
+}
+
+// The union of `parts` (unite_all) with exact constructions, its points then rounded to
+// doubles. Corefinement with inexact constructions rounds each intersection point where it is
+// made, and where parts meet at grazing angles the rounded edges may cross (Mannequiny's 59
+// parts once its coordinates are rounded to float32, as every Blender mesh is: its union crossed
+// itself, and the wrap that replaced it smoothed its fingers away); exact points are only rounded
+// at the end. Several times slower, so only where the fast union failed.
+std::optional<SM> unite_exactly(const std::vector<SM>& parts,
+                                const std::function<void(double)>& poll) {
+  std::vector<ESM> exact;
+  exact.reserve(parts.size());
+  for (const SM& part : parts)
+    exact.push_back(
+        with_points<ESM>(part, [](const Point& p) { return EK::Point_3(p.x(), p.y(), p.z()); }));
+  std::optional<ESM> united = unite_all(std::move(exact), poll);
+  if (!united) return std::nullopt;
+  return with_points<SM>(*united, [](const EK::Point_3& p) {
+    return Point(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  });
+}
+
+// unite_all with inexact constructions; nullopt also where CGAL threw (a degenerate
+// configuration of rounded points: unite_exactly may still take it).
+std::optional<SM> fast_union(const std::vector<SM>& parts,
+                             const std::function<void(double)>& poll) {
+  try {
+    return unite_all(parts, poll);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+// Whether a union of `count` parts came out a closed surface that does not cross itself.
+bool sound_union(const std::optional<SM>& united, std::size_t count) {
+  return united && (count < 2 || (CGAL::is_closed(*united) && !crosses_itself(*united)));
 }
 
 // `mesh` with its vertices in lexicographic order of position and its faces, each starting at
@@ -236,11 +296,9 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
       // Corefinement needs parts that do not cross themselves.
       if (level.size() > 1 && !all_of_parts(level, [](SM& p) { return !crosses_itself(p); }))
         return std::nullopt;
-      std::optional<SM> united = unite_all(std::move(level), poll);
-      if (!united) return std::nullopt;
-      if (group.size() > 1 && (!CGAL::is_closed(*united) || crosses_itself(*united))) {
-        return std::nullopt;
-      }
+      std::optional<SM> united = fast_union(level, poll);
+      if (!sound_union(united, group.size())) united = unite_exactly(level, poll);
+      if (!sound_union(united, group.size())) return std::nullopt;
       shells.push_back(mesh_from_surface_mesh(*united, "the union of the parts"));
     }
   } catch (const Cancelled&) {
