@@ -9,9 +9,12 @@ named after Mixamo's rig, so that animation libraries made for it retarget onto 
 A skeleton is humanoid (`find_humanoid`) when it is a tree with five ends and a mirror plane
 (`dcg.symmetry`): one end on the plane (the head), two pairs mirrored across it, the pair
 farther from the head the feet, the other the hands; the two legs meet at one node (the
-pelvis), both arms at another between it and the head (the chest). Any other skeleton (a
-tail, fingers, a cycle, no mirror plane, arms that leave the body at two places) keeps the
-descriptive names, and `plan_bones` says so by returning the "dcg" plan (`is_mixamo`).
+pelvis), both arms at another between it and the head (the chest). A hand may be a node that
+FINGERS or more ends leave (the engine's Prongs.fingers; at most five): its fingers are named
+after Mixamo's too, the one standing apart from the others the thumb, then index, middle, ring
+and pinky by their distance from it. Any other skeleton (a tail, toes, a cycle, no mirror
+plane, arms that leave the body at two places) keeps the descriptive names, and `plan_bones`
+says so by returning the "dcg" plan (`is_mixamo`).
 
 The plan is rooted at the pelvis and has Mixamo's chains, each bone named by its place in
 its chain (`CHAIN_NAMES`: fewer bones where a limb has fewer polyline segments):
@@ -19,6 +22,7 @@ its chain (`CHAIN_NAMES`: fewer bones where a limb has fewer polyline segments):
     Hips > Spine > Spine1 > Spine2 > Neck > Head > HeadTop_End
     Spine2 > LeftShoulder > LeftArm > LeftForeArm > LeftHand      (Right... likewise)
     Hips > LeftUpLeg > LeftLeg > LeftFoot > LeftToeBase           (Right... likewise)
+    LeftHand > LeftHandThumb1 > LeftHandThumb2 > LeftHandThumb3   (Index, Middle, Ring, Pinky)
 
 Hips is the spine's first bone (its head at the pelvis), the legs its children (not
 connected: they start at its head). Left is the .L side of the plan (the side the plane's
@@ -61,6 +65,10 @@ CHAIN_NAMES = {
             4: ("UpLeg", "Leg", "Foot", "ToeBase"),
             5: (None, "UpLeg", "Leg", "Foot", "ToeBase")},
 }
+# A finger's bones (its chain's name: the finger's, "Thumb" ... "Pinky"; the side comes first).
+FINGER_NAMES = ("Thumb", "Index", "Middle", "Ring", "Pinky")
+CHAIN_NAMES.update({finger: {count: tuple(f"Hand{finger}{i}" for i in range(1, count + 1))
+                             for count in (1, 2, 3)} for finger in FINGER_NAMES})
 #: A leg's first bone of five runs from the pelvis out to the hip (None: no bone there): the
 #: thigh's bone, UpLeg, starts at the hip as Hips' child, as in Mixamo's rig.
 #: Where the inner joints of each chain of Mixamo's full count are drawn to on a limb that
@@ -75,7 +83,11 @@ CHAIN_FRACTIONS = {
     "arm": (0.22, 0.54, 0.87),
     "low arm": (0.25, 0.39, 0.68, 0.88),
     "leg": (0.15, 0.52, 0.85, 0.93),
+    **{finger: (0.4, 0.7) for finger in FINGER_NAMES},
 }
+#: A node that at least this many ends leave (through connection nodes only) is a hand with
+#: its fingers (as dcg.naming.FINGERS).
+FINGERS = 3
 #: The bones the arms hang from, the first there is: the top of the spine.
 CHEST_BONES = ("Spine2", "Spine1", "Spine", "Hips")
 SIDE_NAMES = {"L": "Left", "R": "Right"}
@@ -98,6 +110,7 @@ class Humanoid:
     pelvis: int
     hands: dict
     feet: dict
+    fingers: dict = None  #: {"L": {finger name: end node}, "R": ...} where a hand has fingers
 
 
 def _tree_parents(links, node_count, start):
@@ -171,9 +184,15 @@ def find_humanoid(skeleton):
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
     degree = np.bincount(links.ravel(), minlength=len(positions))
-    ends = np.flatnonzero(degree == 1)
     plane = symmetry.skeleton_plane(skeleton)
-    if len(ends) != 5 or plane is None:
+    if plane is None:
+        return None
+    fans = {node: tips for node, tips in _fans(links, degree).items()
+            if abs(plane.signed(positions[node])) > symmetry.tolerance(positions)}
+    fingered = {tip for tips in fans.values() for tip in tips}
+    ends = np.array(sorted(set(np.flatnonzero(degree == 1)) - fingered | set(fans)),
+                    dtype=np.int64)
+    if len(ends) != 5:
         return None
     tolerance = PAIR_TOLERANCE * float(np.linalg.norm(np.ptp(positions, axis=0)))
     paired = _paired_ends(plane, positions, ends, tolerance)
@@ -202,8 +221,42 @@ def find_humanoid(skeleton):
     feet = positions[[foot_l, foot_r]].mean(axis=0)
     if float(_unit(positions[head] - hands) @ _unit(feet - hands)) > -UPRIGHT:
         return None
+    if set(fans) - {hand_l, hand_r} or any(len(tips) > len(FINGER_NAMES) for tips in
+                                          fans.values()):
+        return None  # toes, a head of several ends, more than five fingers
+    fingers = {side: _fingers(positions, fans[hand], positions[hand] - positions[chest])
+               for side, hand in (("L", hand_l), ("R", hand_r)) if hand in fans}
     return Humanoid(head, chest, pelvis, {"L": hand_l, "R": hand_r},
-                    {"L": foot_l, "R": foot_r})
+                    {"L": foot_l, "R": foot_r}, fingers or None)
+
+
+def _fans(links, degree):
+    """{node: the end nodes whose limbs (through nodes of degree 2) start there} for the nodes
+    that FINGERS or more ends leave (off the mirror plane: hands with their fingers)."""
+    incident = [[] for _ in degree]
+    for a, b in links:
+        incident[a].append(int(b))
+        incident[b].append(int(a))
+    starts = {}
+    for end in np.flatnonzero(degree == 1):
+        previous, node = int(end), incident[end][0]
+        while degree[node] == 2:
+            previous, node = node, next(n for n in incident[node] if n != previous)
+        starts.setdefault(node, []).append(int(end))
+    return {node: tips for node, tips in starts.items() if len(tips) >= FINGERS}
+
+
+def _fingers(positions, tips, arm):
+    """{finger name: end node} of a hand's finger tips (arm: the direction the arm reaches
+    out in): the thumb the one farthest from the others on average, then index, middle, ring
+    and pinky by their distance from it across the hand (normal to the arm: not how long they
+    are)."""
+    points = positions[tips]
+    gaps = np.linalg.norm(points[:, None] - points[None], axis=2)
+    thumb = int(np.argmax(gaps.sum(axis=1)))
+    across = points - np.outer(points @ _unit(arm), _unit(arm))
+    order = np.argsort(np.linalg.norm(across - across[thumb], axis=1), kind="stable")
+    return dict(zip(FINGER_NAMES, [tips[k] for k in order]))
 
 
 def _rooted(skeleton, root):
@@ -224,6 +277,8 @@ def _chain_ends(body):
         arm = "low arm" if body.chest == body.pelvis else "arm"
         chains[body.hands[side]] = (arm, side, body.chest)
         chains[body.feet[side]] = ("leg", side, body.pelvis)
+        for finger, tip in (body.fingers or {}).get(side, {}).items():
+            chains[tip] = (finger, side, body.hands[side])
     return chains
 
 

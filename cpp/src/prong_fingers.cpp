@@ -24,9 +24,9 @@ namespace {
 
 struct Protrusion {
   const Peak* peak = nullptr;
-  int hand = -1;        // vertex of the peak whose region it ended in (a prong where one is)
-  double length = 0;    // from its base's centre to its farthest vertex
-  double aspect = 0;    // length over the base's mean radius (0: too big, or no base)
+  int hand = -1;      // vertex of the peak whose region it ended in (a prong where one is)
+  double length = 0;  // from its base's centre to its farthest vertex
+  double aspect = 0;  // length over the base's mean radius (0: too big, or no base)
 };
 
 // The region {f > valley} around a peak, flood-filled (mark[v] == stamp inside); false when it
@@ -125,7 +125,8 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
     if (found[a].aspect >= kFingerAspect) ++members[find(static_cast<int>(a))];
   std::vector<char> finger(found.size(), 0);
   for (std::size_t a = 0; a < found.size(); ++a)
-    finger[a] = found[a].aspect >= kFingerAspect && members[find(static_cast<int>(a))] >= kFingerCount;
+    finger[a] =
+        found[a].aspect >= kFingerAspect && members[find(static_cast<int>(a))] >= kFingerCount;
   // A thumb: shorter, beside a finger of the same hand.
   std::vector<const Peak*> out;
   for (std::size_t a = 0; a < found.size(); ++a) {

@@ -160,3 +160,61 @@ def test_the_batch_gets_the_same_mixamo_bones(meshes_dir, tmp_path):
 
     with pytest.raises(ValueError, match="bone_names"):
         batch.run(meshes_dir, tmp_path, bone_names="unreal", progress=None)
+
+
+def person_with_fingers():
+    """person() whose hands (nodes 3 and 4) have five fingers each, pointing out along x: a
+    thumb forward and below, index to pinky in a row behind it, the middle finger longest."""
+    base = person()
+    positions, links = [list(p) for p in base.positions], [list(link) for link in base.links]
+    kinds = list(base.kinds)
+    kinds[3] = kinds[4] = "joint"
+    for hand, side in ((3, 1.0), (4, -1.0)):
+        x, y, z = positions[hand]
+        for dx, dy, dz in ((0.08, -0.12, -0.06), (0.2, -0.05, 0), (0.22, 0, 0),
+                           (0.2, 0.05, 0), (0.16, 0.1, 0)):
+            positions.append([x + side * dx, y + dy, z + dz])
+            links.append([hand, len(positions) - 1])
+            kinds.append("end")
+    return stick_figure(positions, kinds, links, root=1)
+
+
+def test_a_hands_fingers_get_mixamos_names():
+    skeleton = person_with_fingers()
+    body = humanoid.find_humanoid(skeleton)
+    assert body is not None and set(body.fingers) == {"L", "R"}
+    assert [body.fingers["L"][name] for name in humanoid.FINGER_NAMES] == [7, 8, 9, 10, 11]
+    plan = bones.plan_bones(skeleton, names="mixamo")
+    named = {spec.name: spec for spec in plan}
+    fingers = {f"{side}Hand{finger}{i}" for side in ("Left", "Right")
+               for finger in humanoid.FINGER_NAMES for i in (1, 2, 3)}
+    assert set(named) == MIXAMO_BODY | MIXAMO_LIMBS | fingers
+    assert named["LeftHandThumb1"].parent == "LeftHand"
+    assert named["RightHandPinky2"].parent == "RightHandPinky1"
+    assert named["LeftHandIndex3"].tail[0] > 0 and named["RightHandIndex3"].tail[0] < 0
+
+
+def test_real_fingers_are_named_after_the_artists(meshes_dir):
+    """Mannequiny's hands: the engine finds the thumb and two fingers of each (Prongs.fingers),
+    the hand's own end is the fourth; each finger's last bone ends nearest the artist's joint of
+    the same finger (thumb_03.l, index_03.l, ...)."""
+    V, F = dcg.load_mesh(str(meshes_dir / "rigged" / "Mannequiny.obj"))
+    plan = {spec.name: spec for spec in bones.plan_bones(dcg.extract_skeleton(V, F),
+                                                         names="mixamo")}
+    joints = {}
+    for line in open(meshes_dir / "rigged" / "Mannequiny.rig.txt"):
+        if line.startswith("joints ") and line.split()[1][-2:] in (".l", ".r"):
+            fields = line.split()
+            joints[fields[1]] = np.array(fields[2:5], dtype=float)
+    checked = 0
+    for side, suffix in (("Left", ".l"), ("Right", ".r")):
+        for finger in humanoid.FINGER_NAMES:
+            tips = [spec for name, spec in plan.items() if name.startswith(side + "Hand" + finger)]
+            if not tips:
+                continue
+            tail = tips[-1].tail
+            nearest = min(joints, key=lambda j: np.linalg.norm(joints[j] - tail))
+            assert nearest.startswith(finger.lower()) and nearest.endswith(suffix), \
+                (side, finger, nearest)
+            checked += 1
+    assert checked == 8  # thumb, index, middle and ring of each hand
