@@ -16,7 +16,8 @@ namespace dcg::internal {
 /// each connected component (after splitting pinched vertices into one vertex per fan) must be
 /// a closed, orientable 2-manifold that encloses a volume, and one that is to be united with
 /// another must not intersect itself. Parts whose
-/// bounding boxes overlap are united with CGAL's corefinement (exact predicates); the others are
+/// bounding boxes overlap are united with CGAL's corefinement (exact predicates; again with exact
+/// constructions when that union crosses itself, comes out open or throws); the others are
 /// kept as they are, face for face. Parts may touch themselves or each other at a point (a split
 /// pinched vertex), never cross. std::nullopt when any part is open, one to be united
 /// self-intersecting, or when a union fails or comes out open or self-intersecting (parts that
