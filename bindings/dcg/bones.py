@@ -290,10 +290,11 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
 
     names: "dcg" (the limb's name and a counter, ``arm.002.L``: `dcg.naming`) or "mixamo"
     (`dcg.humanoid`: a humanoid skeleton's bones named and counted after Mixamo's rig,
-    ``LeftForeArm``; any other skeleton keeps the "dcg" names). limb_fractions: {node: the fractions of arc length the inner joints
-    of the limb that ends at that node are drawn to (see `articulations`)}: that limb gets one
-    bone more than fractions (fewer if it has fewer polyline segments, then no fractions)
-    instead of `bone_detail`'s count (what the "mixamo" plan asks for).
+    ``LeftForeArm``; any other skeleton keeps the "dcg" names). limb_fractions: {node: the
+    fractions of arc length the inner joints of the limb that ends at that node are drawn to
+    (see `articulations`)}: that limb gets one bone more than fractions (fewer if it has fewer
+    polyline segments, then no fractions) instead of `bone_detail`'s count (what the "mixamo"
+    plan asks for).
     """
     check_bone_names(names)
     if names == "mixamo":

@@ -68,9 +68,9 @@ def build_parser() -> argparse.ArgumentParser:
                        f"the .glb alike (default {bones.BONE_DETAIL}, the add-on's)")
     batch.add_argument("--bone-names", choices=bones.BONE_NAME_CONVENTIONS,
                        default=bones.BONE_NAMES,
-                       help="how bones are named: dcg (by limb and side, arm.002.L) or mixamo (a humanoid's "
-                       "bones named and counted after Mixamo's rig, for retargeting; other "
-                       f"shapes keep the dcg names; default {bones.BONE_NAMES})")
+                       help="how bones are named: dcg (by limb and side, arm.002.L) or mixamo (a "
+                       "humanoid's bones named and counted after Mixamo's rig, for retargeting; "
+                       f"other shapes keep the dcg names; default {bones.BONE_NAMES})")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     _add_option_flags(batch, OPTIONS)
     return parser

@@ -12,9 +12,9 @@ farther from the head the feet, the other the hands; the two legs meet at one no
 pelvis), both arms at another between it and the head (the chest). A hand may be a node that
 FINGERS or more ends leave (the engine's Prongs.fingers; at most five): its fingers are named
 after Mixamo's too, the one standing apart from the others the thumb, then index, middle, ring
-and pinky by their distance from it. Any other skeleton (a tail, toes, a cycle, no mirror
-plane, arms that leave the body at two places) keeps the descriptive names, and `plan_bones`
-says so by returning the "dcg" plan (`is_mixamo`).
+and pinky by their distance from it across the hand. Any other skeleton (a tail, toes, a cycle,
+no mirror plane, arms that leave the body at two places) keeps the descriptive names, and
+`plan_bones` says so by returning the "dcg" plan (`is_mixamo`).
 
 The plan is rooted at the pelvis and has Mixamo's chains, each bone named by its place in
 its chain (`CHAIN_NAMES`: fewer bones where a limb has fewer polyline segments):
