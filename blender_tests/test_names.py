@@ -74,3 +74,21 @@ def test_a_characters_fingers_get_bones_in_blender(dcg):
     fingers = {chain for chain in chains if chain.startswith("finger")}
     assert fingers == {f"finger{i}.{side}" for i in range(1, 5) for side in "LR"}
     assert sum(bone.get("dcg_kind") == "end" for bone in arm.data.bones) == 11
+
+
+def test_a_humanoids_fingers_get_mixamos_names(dcg):
+    # Loaded upright in Blender, Mannequiny's skeleton closes a loop at a knee (its surface has
+    # three handles): the loop gets no bone, and with Bone Names = Mixamo its fingers hang from
+    # LeftHand / RightHand as Mixamo's do.
+    path = MESHES / "rigged" / "Mannequiny.obj"
+    if not path.is_file():
+        pytest.skip(f"{path} not found (set DCG_MESHES)")
+    bpy.ops.dcg.load_mesh(filepath=str(path))
+    assert bpy.ops.object.dcg_auto_rig(weights="NONE", bone_names="MIXAMO") == {"FINISHED"}
+    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    bones = arm.data.bones
+    for side in ("Left", "Right"):
+        for finger in ("Thumb", "Index", "Middle"):
+            assert bones[f"{side}Hand{finger}1"].parent.name == f"{side}Hand"
+    assert bones["LeftUpLeg"].parent.name == "Hips"
+    assert bones["LeftHand"].tail_local.x > 0.5 and bones["RightHand"].tail_local.x < -0.5

@@ -6,13 +6,14 @@ named after Mixamo's rig, so that animation libraries made for it retarget onto 
     plane = dcg.humanoid.plan_plane(skeleton)               # what its Left/Right mirror across
     dcg.humanoid.is_mixamo(plan)                            # did the names apply?
 
-A skeleton is humanoid (`find_humanoid`) when it is a tree with five ends and a mirror plane
-(`dcg.symmetry`): one end on the plane (the head), two pairs mirrored across it, the pair
+A skeleton is humanoid (`find_humanoid`) when it has five ends and a mirror plane
+(`dcg.symmetry`), the links that close its cycles left out (a loop around a handle of the
+surface, as at a mannequin's segmented knee, has no bone in the Mixamo plan): one end on the plane (the head), two pairs mirrored across it, the pair
 farther from the head the feet, the other the hands; the two legs meet at one node (the
 pelvis), both arms at another between it and the head (the chest). A hand may be a node that
 FINGERS or more ends leave (the engine's Prongs.fingers; at most five): its fingers are named
 after Mixamo's too, the one standing apart from the others the thumb, then index, middle, ring
-and pinky by their distance from it across the hand. Any other skeleton (a tail, toes, a cycle,
+and pinky by their distance from it across the hand. Any other skeleton (a tail, toes,
 no mirror plane, arms that leave the body at two places) keeps the descriptive names, and
 `plan_bones` says so by returning the "dcg" plan (`is_mixamo`).
 
@@ -39,7 +40,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from . import symmetry
-from .bones import plan_bones
+from .bones import limbs, plan_bones
 from .bones import plan_plane as bones_plan_plane
 
 #: Bone names of each chain by how many bones it has (the most: Mixamo's own chain). The
@@ -114,9 +115,9 @@ class Humanoid:
 
 
 def _tree_parents(links, node_count, start):
-    """Parent of each node in the tree `links` walked from `start` (-1 at the start), or None
-    when the links are not one tree over every node."""
-    if len(links) != node_count - 1:
+    """Parent of each node in the tree `links` walked from `start` (-1 at the start; -2 at a
+    node no link reaches), or None when the links are not one tree over their nodes."""
+    if len(links) != len(np.unique(links)) - 1:
         return None
     incident = [[] for _ in range(node_count)]
     for a, b in links:
@@ -131,7 +132,8 @@ def _tree_parents(links, node_count, start):
             if parents[other] == -2:
                 parents[other] = node
                 queue.append(other)
-    return None if (parents == -2).any() else parents
+    reached = (parents != -2) | (np.bincount(links.ravel(), minlength=node_count) == 0)
+    return parents if reached.all() else None
 
 
 def _path(parents, node):
@@ -182,7 +184,7 @@ def _direction(positions, start, nodes):
 def find_humanoid(skeleton):
     """The Humanoid of `skeleton` (see the module's text), or None when it is not one."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
+    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)[_tree_links(skeleton)]
     degree = np.bincount(links.ravel(), minlength=len(positions))
     plane = symmetry.skeleton_plane(skeleton)
     if plane is None:
@@ -259,11 +261,33 @@ def _fingers(positions, tips, arm):
     return dict(zip(FINGER_NAMES, [tips[k] for k in order]))
 
 
+def _tree_links(skeleton):
+    """The indices of the links of `skeleton` but those that close a cycle (dcg.bones.limbs)
+    and the links left hanging from where they were, up to a node of degree 3 or an end: a loop
+    around a handle of the surface (a mannequin's segmented knee) has no bone in the Mixamo
+    plan, and the limb it was on is one chain again."""
+    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
+    closing = {limb[0][0] for limb in limbs(skeleton) if not limb[0][3]}
+    kept = set(range(len(links))) - closing
+    kinds = [str(kind) for kind in skeleton.kinds]
+    loose = [int(node) for link in closing for node in links[link]]
+    while loose:  # a node that only a closing link held to the rest is left out with its link
+        node = loose.pop()
+        at = [i for i in kept if node in links[i]]
+        if len(at) == 1 and kinds[node] != "end":
+            kept.discard(at[0])
+            loose.append(int(links[at[0]][0] if links[at[0]][1] == node else links[at[0]][1]))
+    return sorted(kept)
+
+
 def _rooted(skeleton, root):
-    """A view of `skeleton` with another root (what plan_bones reads)."""
+    """A view of `skeleton` with another root and without the links that close a cycle
+    (`_tree_links`): what plan_bones reads."""
+    kept = _tree_links(skeleton)
     return SimpleNamespace(positions=skeleton.positions, kinds=skeleton.kinds,
-                           radii=skeleton.radii, links=skeleton.links,
-                           polylines=skeleton.polylines, root=int(root))
+                           radii=skeleton.radii,
+                           links=np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)[kept],
+                           polylines=[skeleton.polylines[i] for i in kept], root=int(root))
 
 
 def _chain_ends(body):
@@ -316,6 +340,7 @@ def mixamo_plan(skeleton):
     if len(renamed) != len(plan):
         return None  # a bone outside the chains: not the shape find_humanoid saw
     chest = next(name for name in CHEST_BONES if name in renamed.values())
+    kept = _tree_links(skeleton)  # the view's links are these of the skeleton's
     result = []
     for spec in plan:
         parent, connect = renamed.get(spec.parent), spec.use_connect
@@ -324,7 +349,7 @@ def mixamo_plan(skeleton):
         if parent is None and roles[spec.name] in ("arm", "low arm", "leg"):  # at the pelvis
             parent, connect = ("Hips" if roles[spec.name] == "leg" else chest), False
         result.append(replace(spec, name=renamed[spec.name], parent=parent,
-                              use_connect=connect))
+                              use_connect=connect, link=kept[spec.link]))
     return _parents_first(result)
 
 

@@ -218,3 +218,27 @@ def test_real_fingers_are_named_after_the_artists(meshes_dir):
                 (side, finger, nearest)
             checked += 1
     assert checked == 8  # thumb, index, middle and ring of each hand
+
+
+def test_loops_in_the_legs_are_left_out_and_each_leg_stays_one_chain():
+    # person() with a loop at each knee: a leg runs pelvis 0 -> knee -> foot, and a second path
+    # knee -> a -> b -> knee goes around a handle (a mannequin's segmented knee). The link that
+    # closes a loop and what hangs from it get no bone; the rest is Mixamo's.
+    base = person()
+    positions, links = list(base.positions), [[0, 1], [1, 2], [1, 3], [1, 4]]
+    kinds = list(base.kinds)
+    loops = []
+    for side, foot in ((1, 5), (-1, 6)):
+        knee = len(positions)
+        positions += [[side * 0.2, 0.05, 0.5], [side * 0.25, 0.1, 0.45], [side * 0.25, 0.1, 0.55]]
+        kinds += ["joint", "connection", "connection"]
+        links += [[0, knee], [knee, foot]]
+        loops += [len(links), len(links) + 1, len(links) + 2]
+        links += [[knee, knee + 1], [knee + 1, knee + 2], [knee + 2, knee]]
+    skeleton = stick_figure(positions, kinds, links, root=1)
+    assert humanoid.find_humanoid(skeleton) is not None
+    plan = bones.plan_bones(skeleton, names="mixamo")
+    assert humanoid.is_mixamo(plan)
+    assert {spec.name for spec in plan} == MIXAMO_BODY | MIXAMO_LIMBS
+    assert not any(spec.link in loops for spec in plan)  # the loops have no bone
+    assert len(bones.plan_bones(skeleton)) > len(plan)  # the descriptive plan keeps them
