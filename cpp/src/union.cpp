@@ -191,7 +191,9 @@ std::optional<Surface> unite_all(std::vector<Surface> level,
 template <class To, class From, class Convert>
 To with_points(const From& from, Convert convert) {
   To to;
-  std::vector<typename To::Vertex_index> at(from.num_vertices());
+  std::size_t size = 0;  // vertex indices run up to the removed ones' too
+  for (const auto v : from.vertices()) size = std::max<std::size_t>(size, v.idx() + 1);
+  std::vector<typename To::Vertex_index> at(size);
   for (const auto v : from.vertices()) at[v.idx()] = to.add_vertex(convert(from.point(v)));
   std::vector<typename To::Vertex_index> corners;
   for (const auto f : from.faces()) {
