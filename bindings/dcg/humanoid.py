@@ -8,9 +8,10 @@ named after Mixamo's rig, so that animation libraries made for it retarget onto 
 
 A skeleton is humanoid (`find_humanoid`) when it has five ends and a mirror plane
 (`dcg.symmetry`), the links that close its cycles left out (a loop around a handle of the
-surface, as at a mannequin's segmented knee, has no bone in the Mixamo plan): one end on the plane (the head), two pairs mirrored across it, the pair
-farther from the head the feet, the other the hands; the two legs meet at one node (the
-pelvis), both arms at another between it and the head (the chest). A hand may be a node that
+surface, as at a mannequin's segmented knee, has no bone in the Mixamo plan): one end on the
+plane (the head), two pairs mirrored across it, the pair farther from the head the feet, the
+other the hands; the two legs meet at one node (the pelvis), both arms at another between it
+and the head (the chest). A hand may be a node that
 FINGERS or more ends leave (the engine's Prongs.fingers; at most five): its fingers are named
 after Mixamo's too, the one standing apart from the others the thumb, then index, middle, ring
 and pinky by their distance from it across the hand. Any other skeleton (a tail, toes,
