@@ -21,13 +21,15 @@ LIMBS = {
 UP = {"spot.obj": "AUTO", "cow.off": "Y", "knight.off": "Y"}
 
 
-def rigged(name):
+def rigged(name, **options):
+    """(mesh, armature) of the public mesh `name` loaded (UP's axis, else the loader's Auto)
+    and rigged without weights, with the operator's `options`."""
     path = MESHES / name
     if not path.is_file():
         pytest.skip(f"{path} not found (set DCG_MESHES)")
-    bpy.ops.dcg.load_mesh(filepath=str(path), up_axis=UP[name])
+    bpy.ops.dcg.load_mesh(filepath=str(path), up_axis=UP.get(name, "AUTO"))
     mesh = bpy.context.active_object
-    assert bpy.ops.object.dcg_auto_rig(weights="NONE") == {"FINISHED"}
+    assert bpy.ops.object.dcg_auto_rig(weights="NONE", **options) == {"FINISHED"}
     (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
     return mesh, arm
 
@@ -64,12 +66,7 @@ def test_a_characters_fingers_get_bones_in_blender(dcg):
     # Mannequiny's hands have fingers (the engine finds a thumb and two fingers on each). Blender
     # hands the engine float32 coordinates, where its 59 parts' union needs exact constructions
     # (a wrap instead smoothed the fingers away: 5 ends, no finger bones).
-    path = MESHES / "rigged" / "Mannequiny.obj"
-    if not path.is_file():
-        pytest.skip(f"{path} not found (set DCG_MESHES)")
-    bpy.ops.dcg.load_mesh(filepath=str(path))
-    assert bpy.ops.object.dcg_auto_rig(weights="NONE") == {"FINISHED"}
-    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    _, arm = rigged("rigged/Mannequiny.obj")
     chains = {re.sub(r"\.\d{3}", "", bone.name) for bone in arm.data.bones}
     fingers = {chain for chain in chains if chain.startswith("finger")}
     assert fingers == {f"finger{i}.{side}" for i in range(1, 5) for side in "LR"}
@@ -80,12 +77,7 @@ def test_a_humanoids_fingers_get_mixamos_names(dcg):
     # Loaded upright in Blender, Mannequiny's skeleton closes a loop at a knee (its surface has
     # three handles): the loop gets no bone, and with Bone Names = Mixamo its fingers hang from
     # LeftHand / RightHand as Mixamo's do.
-    path = MESHES / "rigged" / "Mannequiny.obj"
-    if not path.is_file():
-        pytest.skip(f"{path} not found (set DCG_MESHES)")
-    bpy.ops.dcg.load_mesh(filepath=str(path))
-    assert bpy.ops.object.dcg_auto_rig(weights="NONE", bone_names="MIXAMO") == {"FINISHED"}
-    (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    _, arm = rigged("rigged/Mannequiny.obj", bone_names="MIXAMO")
     bones = arm.data.bones
     for side in ("Left", "Right"):
         for finger in ("Thumb", "Index", "Middle"):

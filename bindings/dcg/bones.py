@@ -439,15 +439,9 @@ def _cut_at_plane(plane, polyline):
 
 def _fitted_plane(plane, polylines, sides):
     """symmetry.fitted_plane of the paired limbs and the middle's polyline points."""
-    limb_pairs = [(polylines[i][0], polylines[j][0]) for i, j in _partners(sides).items()]
+    limb_pairs = [(polylines[i][0], polylines[j][0]) for i, j in symmetry.partners(sides).items()]
     middle = [polylines[i][0] for i, (side, _) in enumerate(sides) if side is None]
     return symmetry.fitted_plane(plane, limb_pairs, np.concatenate([np.zeros((0, 3))] + middle))
-
-
-def _partners(sides):
-    """{i: j} for each pair of limbs, i the .L limb and j its .R partner."""
-    right = {pair: j for j, (side, pair) in enumerate(sides) if side == "R"}
-    return {i: right[pair] for i, (side, pair) in enumerate(sides) if side == "L"}
 
 
 def limb_joints(plane, polylines, sides, counts, min_length, fractions=None):
@@ -458,7 +452,7 @@ def limb_joints(plane, polylines, sides, counts, min_length, fractions=None):
     images, both as targets for `symmetrize`, the joints' own places as originals."""
     joints = [None] * len(polylines)
     fractions = fractions or [None] * len(polylines)
-    for i, j in _partners(sides).items():
+    for i, j in symmetry.partners(sides).items():
         joints[i], joints[j] = _paired_joints(plane, polylines[i], polylines[j], counts[i],
                                               min_length, fractions[i])
     for i, (points, nodes, segment_links, radii) in enumerate(polylines):
@@ -528,7 +522,7 @@ def symmetrize(plane, skeleton, chains, sides, joints, polylines):
     degree = _degrees(skeleton)
     inside = _mirror_test(plane, skeleton)
     nodes = _symmetric_nodes(plane, skeleton, chains, sides, inside)
-    for i, j in _partners(sides).items():
+    for i, j in symmetry.partners(sides).items():
         tip = degree[chains[i][-1][2]] == 1
         joints[i].points, joints[j].points = _paired_points(
             plane, joints[i], joints[j], (polylines[i], polylines[j]), tip, inside)
@@ -600,7 +594,7 @@ def _symmetric_nodes(plane, skeleton, chains, sides, inside):
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     reach = symmetry.MIRROR_REACH * np.asarray(skeleton.radii, dtype=float)
     pairs = []
-    for i, j in _partners(sides).items():
+    for i, j in symmetry.partners(sides).items():
         pairs += [(chains[i][0][1], chains[j][0][1]), (chains[i][-1][2], chains[j][-1][2])]
     partner = symmetry.node_partners(pairs)
     result = {}
@@ -637,7 +631,7 @@ def _references(plane, positions, sides, joints):
     references = [rolls.chain_reference(limb_points.points, side, up,
                                         plane if limb_side is None else None)
                   for limb_points, (limb_side, _) in zip(joints, sides)]
-    for i, j in _partners(sides).items():
+    for i, j in symmetry.partners(sides).items():
         references[j] = plane.reflect_direction(references[i])
     return references, side, up
 
@@ -652,7 +646,7 @@ def _chain_bones(skeleton, chains, sides, plane, joints, frame):
     bone_kinds = [[kinds[n] if n >= 0 else "connection" for n in limb_points.nodes[1:]]
                   for limb_points in joints]
     chain_names = naming.chain_names(skeleton, chains, sides, plane,
-                                     [limb_points.points for limb_points in joints])
+                                     [limb_points.points for limb_points in joints], degree)
     name_of = naming.namer()
     tail_bone = {}  # node -> name of the bone whose tail is that node
     bones = []

@@ -40,7 +40,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import symmetry
+from . import naming, symmetry
 from .bones import limbs, plan_bones
 from .bones import plan_plane as bones_plan_plane
 
@@ -88,8 +88,8 @@ CHAIN_FRACTIONS = {
     **{finger: (0.4, 0.7) for finger in FINGER_NAMES},
 }
 #: A node that at least this many ends leave (through connection nodes only) is a hand with
-#: its fingers (as dcg.naming.FINGERS).
-FINGERS = 3
+#: its fingers: the descriptive names' count (dcg.naming).
+FINGERS = naming.FINGERS
 #: The bones the arms hang from, the first there is: the top of the spine.
 CHEST_BONES = ("Spine2", "Spine1", "Spine", "Hips")
 SIDE_NAMES = {"L": "Left", "R": "Right"}
@@ -281,10 +281,10 @@ def _tree_links(skeleton):
     return sorted(kept)
 
 
-def _rooted(skeleton, root):
-    """A view of `skeleton` with another root and without the links that close a cycle
-    (`_tree_links`): what plan_bones reads."""
-    kept = _tree_links(skeleton)
+def _rooted(skeleton, root, kept=None):
+    """A view of `skeleton` with another root and only the links `kept` (`_tree_links`, found
+    when not given): what plan_bones reads."""
+    kept = _tree_links(skeleton) if kept is None else kept
     return SimpleNamespace(positions=skeleton.positions, kinds=skeleton.kinds,
                            radii=skeleton.radii,
                            links=np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)[kept],
@@ -326,7 +326,8 @@ def mixamo_plan(skeleton):
     if body is None:
         return None
     chains = _chain_ends(body)
-    plan = plan_bones(_rooted(skeleton, body.pelvis), limb_fractions={
+    kept = _tree_links(skeleton)  # the view's links are these of the skeleton's
+    plan = plan_bones(_rooted(skeleton, body.pelvis, kept), limb_fractions={
         node: CHAIN_FRACTIONS[chain] for node, (chain, _, _) in chains.items()})
     by_name = {spec.name: spec for spec in plan}
     renamed, roles = {}, {}
@@ -341,7 +342,6 @@ def mixamo_plan(skeleton):
     if len(renamed) != len(plan):
         return None  # a bone outside the chains: not the shape find_humanoid saw
     chest = next(name for name in CHEST_BONES if name in renamed.values())
-    kept = _tree_links(skeleton)  # the view's links are these of the skeleton's
     result = []
     for spec in plan:
         parent, connect = renamed.get(spec.parent), spec.use_connect

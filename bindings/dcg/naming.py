@@ -1,7 +1,7 @@
 """Descriptive bone names (no `bpy`: plain pytest tests it): each limb's chain of bones is named
 after what the limb is, so that an animator reads the rig in Blender's outliner.
 
-    names = naming.chain_names(skeleton, chains, sides, plane, limb_points)   # one per limb
+    names = naming.chain_names(skeleton, chains, sides, plane, limb_points, degree)
     name_of = naming.namer()           # name_of("hind_leg", "L", pair, index) -> hind_leg.002.L
 
 What a limb is follows from the skeleton's shape, not from a template. Up is the axis along
@@ -61,12 +61,12 @@ def up_axis(positions, ends, plane=None):
     such on ties."""
     positions = np.asarray(positions, dtype=float).reshape(-1, 3)
     axes = _up_candidates(plane)
-    spans = [float(np.ptp(positions @ axis)) for axis in axes]
+    heights = [positions @ axis for axis in axes]
+    spans = [float(np.ptp(height)) for height in heights]
     best, best_score = axes[0], -1
-    for axis, span in zip(axes, spans):
+    for axis, height, span in zip(axes, heights, spans):
         if span < SPREAD * max(spans):
             continue
-        height = positions @ axis
         score = int((height[ends] <= height.min() + GROUND * span).sum())
         if score > best_score:
             best, best_score = axis, score
@@ -91,13 +91,12 @@ def _up_candidates(plane):
     return [np.cos(a) * first + np.sin(a) * second for a in angles]
 
 
-def chain_names(skeleton, chains, sides, plane, limb_points):
+def chain_names(skeleton, chains, sides, plane, limb_points, degree):
     """The name of each limb's chain (chains: dcg.bones.limbs; sides: (side, pair) per limb;
     plane: the plan's mirror plane or None; limb_points: each limb's joints, first to last, as
-    planned), as the module's text says; a .R limb gets its .L partner's name."""
+    planned; degree: the links at each node), as the module's text says; a .R limb gets its .L
+    partner's name."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
-    degree = np.bincount(links.ravel(), minlength=len(positions))
     starts = [limb[0][1] for limb in chains]
     ends = [limb[-1][2] for limb in chains]
     tips = [bool(limb[-1][3] and degree[end] == 1) for limb, end in zip(chains, ends)]
@@ -105,10 +104,8 @@ def chain_names(skeleton, chains, sides, plane, limb_points):
     base, head = _base_names(positions, plane, sides, limb_points, starts, ends, tips, loops)
     names = _numbered(positions, base, ends, tips, sides, head)
     _inherit(names, base, starts, ends, sides)
-    right = {pair: j for j, (side, pair) in enumerate(sides) if side == "R"}
-    for i, (side, pair) in enumerate(sides):
-        if side == "L" and pair in right:
-            names[right[pair]] = names[i]
+    for left, right in symmetry.partners(sides).items():
+        names[right] = names[left]
     return names
 
 

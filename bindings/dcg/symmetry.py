@@ -327,6 +327,14 @@ def _matching_points(plane, limb_pairs):
     return np.concatenate(left), np.concatenate(right)
 
 
+def partners(sides):
+    """{i: j} for each pair of limbs (sides: pair_limbs' (side, pair) per limb), i the .L limb
+    and j its .R partner."""
+    right = {pair: j for j, (side, pair) in enumerate(sides) if side == "R"}
+    return {i: right[pair] for i, (side, pair) in enumerate(sides)
+            if side == "L" and pair in right}
+
+
 def node_partners(node_pairs):
     """{node: partner} of `node_pairs` ((a, b): the nodes two paired limbs start or end at, in
     order of priority; a node both limbs share is its own partner). A node keeps its first
