@@ -35,9 +35,13 @@ REFERENCES = [
      "cd_b2b": 3.67},
 ]
 METRICS = ["cd_j2j", "cd_j2b", "cd_b2b"]
+PARTS = ["j2j_ours", "j2j_ours_far", "j2j_theirs", "j2j_theirs_far"]
 INSIDE_METRICS = ["inside_" + m for m in METRICS]
 COLUMNS = [("character", "name", ""), ("CD-J2J %", "cd_j2j", ".3f"),
            ("CD-J2B %", "cd_j2b", ".3f"), ("CD-B2B %", "cd_b2b", ".3f"),
+           ("J2J ours->theirs %", "j2j_ours", ".3f"), ("of it unrigged %", "j2j_ours_far", ".3f"),
+           ("J2J theirs->ours %", "j2j_theirs", ".3f"),
+           ("of it unreached %", "j2j_theirs_far", ".3f"),
            ("inside CD-J2J %", "inside_cd_j2j", ".3f"),
            ("inside CD-J2B %", "inside_cd_j2b", ".3f"),
            ("inside CD-B2B %", "inside_cd_b2b", ".3f"), ("their joints outside", "outside", "d"),
@@ -63,6 +67,7 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
            "their_bones": len(rig.joints), "method": skeleton.method, "seconds": seconds}
     row.update(metrics.skeleton_metrics(V, plan["heads"], plan["tails"], rig.joints,
                                         rig.parents))
+    row.update(metrics.j2j_parts(V, plan["heads"], plan["tails"], rig.joints, rig.parents))
     inside = mesh_parts.inside_any_part(rig.joints, V, F)
     joints, parents = metrics.kept_joints(rig.joints, rig.parents, inside)
     kept = metrics.skeleton_metrics(V, plan["heads"], plan["tails"], joints, parents)
@@ -95,7 +100,7 @@ def main():
     for name, obj, rig_path in characters:
         rows.append(measure(name, obj, rig_path, args.bone_detail))
         print(f"bench_rig_quality: {rows[-1]}", file=sys.stderr, flush=True)
-    mean = quality_tables.mean_row(rows, METRICS + INSIDE_METRICS + [
+    mean = quality_tables.mean_row(rows, METRICS + PARTS + INSIDE_METRICS + [
         "outside", "mirror_mean", "mirror_max", "pairs", "unpaired_limbs", "bones", "their_bones",
         "seconds"])
     mean["name"] = f"**mean of {len(rows)}**"
@@ -116,7 +121,13 @@ def main():
               "on the floor, a hub above the body, IK targets; winding number), each kept "
               "joint's parent its nearest kept ancestor: a diagnostic of how much of the "
               "distance no skeleton inside the shape can remove (the targets are on the first "
-              "three columns).", ""]
+              "three columns). CD-J2J is the mean of its two directions: 'J2J ours->theirs' "
+              "(our joints to the artist's nearest) and 'J2J theirs->ours'; 'of it unrigged' is "
+              "the part of the first from our joints farther than "
+              f"{metrics.FAR_JOINT:g}% from every artist bone (limbs the artist did not rig), "
+              "'of it unreached' the part of the second from the artist's joints as far from "
+              "all our bones (`dcg.metrics.j2j_parts`): what is left is how densely and where "
+              "along the limbs the joints fall.", ""]
     lines += quality_tables.table(COLUMNS, rows + [mean])
     lines += ["", "Reference rows (other sets: MagicArticulate's Articulation-XL / ModelsResource "
               "figures as the papers give them; not measured here):", ""]

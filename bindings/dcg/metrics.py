@@ -8,6 +8,7 @@
     # {"l1", "precision", "recall", "deformation_error", "unweighted"}
     metrics.skeleton_metrics(V, heads, tails, rig.joints, rig.parents)
     # {"cd_j2j", "cd_j2b", "cd_b2b"}, in % of the mesh's longest bounding-box side
+    metrics.j2j_parts(V, heads, tails, rig.joints, rig.parents)        # CD-J2J's directions
 
 The weights protocol: bone j has its head at joint j and its tail at the mean of j's children;
 a leaf continues the direction from its parent by half that length; the weight of bone j is the
@@ -280,6 +281,39 @@ def bone_samples(heads, tails, step) -> np.ndarray:
 def chamfer_b2b(bones_a, bones_b, step) -> float:
     """Symmetric chamfer distance between points sampled `step` apart along both bone sets."""
     return chamfer_j2j(bone_samples(*bones_a, step), bone_samples(*bones_b, step))
+
+
+#: A joint farther than this (% of the longest side) from every bone of the other skeleton
+#: counts as "far" in `j2j_parts`: a limb one side rigged and the other did not.
+FAR_JOINT = 5.0
+
+
+def j2j_parts(V, heads, tails, joints, parents, far=FAR_JOINT) -> Dict[str, float]:
+    """CD-J2J split into what makes it, in % of V's longest bounding-box side (arguments as
+    `skeleton_metrics`; CD-J2J is the mean of the two directions):
+
+    - "j2j_ours": the mean distance from our joints to the artist's nearest joint, and
+      "j2j_ours_far" the part of that mean from our joints farther than `far` from every
+      artist bone (limbs the artist did not rig: wings, a tail, extra end bones);
+    - "j2j_theirs": the mean distance from the artist's joints to our nearest joint, and
+      "j2j_theirs_far" the part from their joints farther than `far` from all our bones (a
+      root on the floor, a hub outside the body: joints our skeleton does not reach).
+    """
+    side = float(np.ptp(np.asarray(V, dtype=float), axis=0).max()) or 1.0
+    ours = (np.asarray(heads, dtype=float), np.asarray(tails, dtype=float))
+    our_joints = unique_points(np.concatenate(ours))
+    joints = np.asarray(joints, dtype=float).reshape(-1, 3)
+    theirs = parent_segments(joints, parents)
+    if not len(theirs[0]):  # one joint, no bone: distances to the joint itself
+        theirs = (joints, joints)
+    nearest = point_distances(our_joints, joints) * (100.0 / side)
+    to_ours, to_theirs = nearest.min(axis=1), nearest.min(axis=0)
+    ours_far = segment_distances(our_joints, *theirs).min(axis=1) * (100.0 / side) > far
+    theirs_far = segment_distances(joints, *ours).min(axis=1) * (100.0 / side) > far
+    return {"j2j_ours": float(to_ours.mean()),
+            "j2j_ours_far": float(np.where(ours_far, to_ours, 0.0).mean()),
+            "j2j_theirs": float(to_theirs.mean()),
+            "j2j_theirs_far": float(np.where(theirs_far, to_theirs, 0.0).mean())}
 
 
 def unique_points(points, tolerance=1e-9) -> np.ndarray:

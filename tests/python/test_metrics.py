@@ -178,6 +178,27 @@ def test_skeleton_metrics_in_percent_of_the_longest_side():
     assert moved == pytest.approx({"cd_j2j": 5.0, "cd_j2b": 5.0, "cd_b2b": 5.0})
 
 
+def test_j2j_parts_split_the_chamfer_into_its_directions_and_far_joints():
+    V = np.array([[0.0, -0.5, -0.5], [2, 0.5, 0.5]])            # longest side 2
+    heads, tails = metrics.parent_segments(CHAIN, CHAIN_PARENTS)
+    # Ours: the chain and a wing 0.4 off its middle (20% of the side): its tip is far.
+    ours_h = np.vstack([heads, [[1.0, 0, 0]]])
+    ours_t = np.vstack([tails, [[1.0, 0.4, 0]]])
+    # Theirs: the chain and a root 0.2 below its start (10%): far from our bones.
+    theirs = np.vstack([CHAIN, [[0.0, 0, -0.2]]])
+    parents = np.array([3, 0, 1, -1])
+    parts = metrics.j2j_parts(V, ours_h, ours_t, theirs, parents)
+    assert parts == pytest.approx({"j2j_ours": 20.0 / 4, "j2j_ours_far": 20.0 / 4,
+                                   "j2j_theirs": 10.0 / 4, "j2j_theirs_far": 10.0 / 4})
+    whole = metrics.skeleton_metrics(V, ours_h, ours_t, theirs, parents)["cd_j2j"]
+    assert whole == pytest.approx(0.5 * (parts["j2j_ours"] + parts["j2j_theirs"]))
+    # Nearer than `far`: counted in the mean, not as far.
+    near = metrics.j2j_parts(V, ours_h, ours_t, theirs, parents, far=25.0)
+    assert near["j2j_ours_far"] == 0.0 and near["j2j_theirs_far"] == 0.0
+    one = metrics.j2j_parts(V, heads, tails, CHAIN[:1], [-1])   # one joint, no bone
+    assert one["j2j_theirs"] == 0.0 and one["j2j_ours"] == pytest.approx(50.0)  # 0, 1, 2 of 2
+
+
 def test_unique_points_drops_shared_heads_and_tails():
     heads, tails = metrics.parent_segments(CHAIN, CHAIN_PARENTS)
     np.testing.assert_array_equal(metrics.unique_points(np.concatenate([heads, tails])), CHAIN)
