@@ -16,8 +16,9 @@ case "$SERIES" in
   4.*|5.0) PYVER=3.11 ;;
   *) PYVER=3.13 ;;
 esac
-if ! PY=$(bash "$(dirname "$0")/find-python.sh" "$PYVER"); then
-  echo "no Python $PYVER with venv and ensurepip on this machine (bpy $SERIES needs it)"
+if ! PY=$(bash "$(dirname "$0")/find-python.sh" "$PYVER" --build); then
+  echo "no Python $PYVER with venv and ensurepip on this machine, nor one built by" \
+    "scripts/build-python.sh (bpy $SERIES needs it)"
   exit 3
 fi
 

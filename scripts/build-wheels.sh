@@ -1,19 +1,22 @@
 #!/usr/bin/env bash
 # Builds the engine's wheels (pyproject.toml: scikit-build-core over CMakeLists.txt) for every
-# Python that Blender runs and this machine has with its headers: 3.11 (Blender 4.2-5.0) and
-# 3.13 (Blender 5.1+), then repairs each with auditwheel, which copies the libraries outside the
+# Python that Blender runs: 3.11 (Blender 4.2-5.0) and 3.13 (Blender 5.1+), each the machine's
+# with its headers or, where it has none, one scripts/build-python.sh builds from Debian's source
+# (once, cached), then repairs each with auditwheel, which copies the libraries outside the
 # manylinux policy (Embree, TBB, GMP, MPFR, ...) into the wheel:
 #   scripts/build-wheels.sh OUT_DIR        -> OUT_DIR/dcg-<version>-cp3XX-cp3XX-manylinux_*.whl
-# A Python that is missing is reported ("skipped: ...") and left out. The build tools live in
-# .venv/wheel-3.XX (made once); CMake builds incrementally in build/wheel/<tag>/.
+# A Python that is neither here nor buildable is reported ("skipped: ...") and left out. The
+# build tools live in .venv/wheel-3.XX (made once); CMake builds incrementally in
+# build/wheel/<tag>/.
 set -euo pipefail
 OUT=$(realpath -m "${1:-out/wheels}")
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT"
 mkdir -p "$OUT"
 for version in 3.11 3.13; do
-  if ! py=$(bash scripts/find-python.sh "$version" --headers); then
-    echo "build-wheels: skipped: cp${version/./} (no Python $version with headers, venv and ensurepip)"
+  if ! py=$(bash scripts/find-python.sh "$version" --headers --build); then
+    echo "build-wheels: skipped: cp${version/./} (no Python $version with headers, venv and" \
+      "ensurepip, nor one built by scripts/build-python.sh)"
     continue
   fi
   venv=.venv/wheel-$version

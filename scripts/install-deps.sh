@@ -16,6 +16,9 @@ PACKAGES=(
   # a minimal Debian lacks them (Couldn't open libEGL.so.1).
   libegl1 libgl1 libx11-6 libxrender1 libxxf86vm1 libxfixes3 libxi6 libxkbcommon0 libsm6
   clang libclang-rt-dev  # libFuzzer + sanitizers for scripts/run-fuzz.sh (make fuzz)
+  # What scripts/build-python.sh needs to fetch and build a Python the distribution lacks
+  # (Debian 12: 3.13 for Blender 5.1+): pip's ssl, zlib, ctypes and the archive modules.
+  curl xz-utils libssl-dev zlib1g-dev libffi-dev libbz2-dev liblzma-dev libsqlite3-dev
 )
 
 missing=()
