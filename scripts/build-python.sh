@@ -6,13 +6,13 @@
 # The source is the upstream tarball Debian builds its pythonVERSION from (13, trixie: 3.13;
 # 12, bookworm: 3.11), found in that release's Sources index on deb.debian.org and checked
 # against the SHA-256 listed there. It is built with its shared library, headers, venv and
-# ensurepip into $DCG_PYTHON_CACHE (default ~/.cache/dcg-rig/python-VERSION), so a fresh clone
+# ensurepip into $DCG_PYTHON_CACHE/python-VERSION (default ~/.cache/dcg-rig), so a fresh clone
 # on the same machine finds it and builds nothing (about 4 minutes on 2 cores the first time;
 # the log beside it). Exit status 3, with the reason on stdout, when the source cannot be
 # fetched or does not build.
 set -euo pipefail
 VERSION=$1
-PREFIX=${DCG_PYTHON_CACHE:-$HOME/.cache/dcg-rig/python-$VERSION}
+PREFIX=${DCG_PYTHON_CACHE:-$HOME/.cache/dcg-rig}/python-$VERSION
 PY=$PREFIX/bin/python$VERSION
 if [ -f "$PREFIX/.complete" ]; then
   echo "$PY"

@@ -21,7 +21,7 @@ import os, sys, sysconfig, venv, ensurepip
 assert "%d.%d" % sys.version_info[:2] == sys.argv[1]
 assert sys.argv[2] != "--headers" or os.path.isfile(
     os.path.join(sysconfig.get_paths()["include"], "Python.h"))'
-BUILT=${DCG_PYTHON_CACHE:-$HOME/.cache/dcg-rig/python-$VERSION}/bin/python$VERSION
+BUILT=${DCG_PYTHON_CACHE:-$HOME/.cache/dcg-rig}/python-$VERSION/bin/python$VERSION
 found() {
   for cand in "python$VERSION" "/usr/bin/python$VERSION" "$BUILT"; do
     if command -v "$cand" >/dev/null 2>&1 &&
