@@ -73,29 +73,50 @@ def test_the_module_loads_its_libraries_from_the_wheel_not_the_system(tmp_path):
 
 
 def interpreter_for(wheel):
-    """A Python of the wheel's version with numpy (scripts/find-python.sh: pyenv's first, numpy
-    2 there, else Debian's), or None."""
+    """(A Python of the wheel's version, whether it has numpy) (scripts/find-python.sh:
+    pyenv's first, numpy 2 there, else Debian's, else the one scripts/build-python.sh built),
+    or (None, False)."""
     tag = wheel.name.split("-")[2][2:]
     found = subprocess.run(["bash", str(REPO / "scripts" / "find-python.sh"),
                             f"{tag[0]}.{tag[1:]}"], capture_output=True, text=True)
     path = found.stdout.strip()
-    if found.returncode != 0 or subprocess.run([path, "-c", "import numpy"],
-                                               capture_output=True).returncode != 0:
-        return None
-    return path
+    if found.returncode != 0:
+        return None, False
+    has_numpy = subprocess.run([path, "-c", "import numpy"], capture_output=True).returncode == 0
+    return path, has_numpy
+
+
+def install_numpy(py, version):
+    """numpy into the venv of `py` from the wheel cache (~/.cache/dcg-rig/wheels/numpy-cpXY,
+    filled from PyPI the first time, as bpy-venv.sh does for bpy): a Python that
+    scripts/build-python.sh built has none of its own. False when it cannot be had."""
+    cache = Path(os.environ.get("DCG_WHEEL_CACHE", Path.home() / ".cache" / "dcg-rig" /
+                                "wheels")) / f"numpy-{version}"
+    pip = [py, "-m", "pip", "-q", "--disable-pip-version-check"]
+    if not list(cache.glob("numpy-*.whl")):
+        part = cache.with_name(cache.name + ".part")
+        if subprocess.run(pip + ["download", "-d", str(part), "--only-binary=:all:", "numpy"],
+                          capture_output=True, timeout=300).returncode != 0:
+            return False
+        part.rename(cache)
+    return subprocess.run(pip + ["install", "--no-index", "--find-links", str(cache), "numpy"],
+                          capture_output=True, timeout=300).returncode == 0
 
 
 @pytest.mark.parametrize("wheel", WHEELS, ids=_python_tag)
 def test_a_clean_venv_imports_and_runs_the_installed_wheel(wheel, tmp_path):
-    """In a venv of its own (numpy from the interpreter's site-packages, nothing else), the
-    installed wheel loads and rigs spot, away from the source tree and the build folder."""
-    python = interpreter_for(wheel)
+    """In a venv of its own (numpy from the interpreter's site-packages, or from the wheel cache
+    where the interpreter has none; nothing else), the installed wheel loads and rigs spot, away
+    from the source tree and the build folder."""
+    python, has_numpy = interpreter_for(wheel)
     if python is None:
-        pytest.skip(f"no Python with numpy for {wheel.name}")
+        pytest.skip(f"no Python for {wheel.name}")
     target = tmp_path / "venv"
     subprocess.run([python, "-m", "venv", "--system-site-packages", str(target)],
                    check=True, timeout=120)
     py = str(target / "bin" / "python")
+    if not has_numpy and not install_numpy(py, _python_tag(wheel)):
+        pytest.skip(f"no numpy for {wheel.name} (none here, PyPI out of reach)")
     subprocess.run([py, "-m", "pip", "install", "-q", "--no-deps", "--no-index", str(wheel)],
                    check=True, timeout=300)
     script = ("import dcg, numpy; V, F = dcg.load_mesh(%r); s = dcg.extract_skeleton(V, F); "
