@@ -9,7 +9,7 @@
 # ensurepip into $DCG_PYTHON_CACHE/python-VERSION (default ~/.cache/dcg-rig), so a fresh clone
 # on the same machine finds it and builds nothing (about 4 minutes on 2 cores the first time;
 # the log beside it). Exit status 3, with the reason on stdout, when the source cannot be
-# fetched or does not build.
+# fetched or does not build (a source that failed to build is not tried again).
 set -euo pipefail
 VERSION=$1
 PREFIX=${DCG_PYTHON_CACHE:-$HOME/.cache/dcg-rig}/python-$VERSION
@@ -51,6 +51,11 @@ curl -fsS --max-time 600 -o "$WORK/$FILE" "$MIRROR/$DIRECTORY/$FILE" 2>>"$LOG" |
   fail "could not fetch $FILE"
 echo "$SHA  $WORK/$FILE" | sha256sum -c --quiet - >>"$LOG" 2>&1 || fail "$FILE: SHA-256 mismatch"
 
+# A source that did not build here once is not built again at every `make test`.
+FAILED=$PREFIX.failed
+if [ "$(cat "$FAILED" 2>/dev/null)" = "$FILE" ]; then
+  fail "$FILE did not build here before (delete $FAILED to try again)"
+fi
 echo "build-python: building Python $VERSION from $FILE into $PREFIX (log: $LOG)" >&2
 tar -xJf "$WORK/$FILE" -C "$WORK"
 SOURCE=$(find "$WORK" -mindepth 1 -maxdepth 1 -type d -name 'Python-*' | head -1)
@@ -58,10 +63,13 @@ SOURCE=$(find "$WORK" -mindepth 1 -maxdepth 1 -type d -name 'Python-*' | head -1
 if ! (cd "$SOURCE" &&
       ./configure --prefix="$PREFIX" --enable-shared LDFLAGS="-Wl,-rpath,$PREFIX/lib" &&
       make -j"${JOBS:-2}" && make install) >>"$LOG" 2>&1; then
+  echo "$FILE" >"$FAILED"
   fail "Python $VERSION did not build"
 fi
-"$PY" -c 'import ssl, venv, ensurepip, zlib, ctypes' >>"$LOG" 2>&1 ||
+if ! "$PY" -c 'import ssl, venv, ensurepip, zlib, ctypes' >>"$LOG" 2>&1; then
+  echo "$FILE" >"$FAILED"
   fail "the built Python $VERSION lacks ssl, zlib or ctypes (their -dev packages)"
+fi
 rm -rf "$WORK"
 touch "$PREFIX/.complete"
 echo "$PY"
