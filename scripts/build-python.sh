@@ -7,7 +7,7 @@
 # 12, bookworm: 3.11), found in that release's Sources index on deb.debian.org and checked
 # against the SHA-256 listed there. It is built with its shared library, headers, venv and
 # ensurepip into $DCG_PYTHON_CACHE/python-VERSION (default ~/.cache/dcg-rig), so a fresh clone
-# on the same machine finds it and builds nothing (about 4 minutes on 2 cores the first time;
+# on the same machine finds it and builds nothing (about 2 minutes on 2 cores the first time;
 # the log beside it). Exit status 3, with the reason on stdout, when the source cannot be
 # fetched or does not build (a source that failed to build is not tried again).
 set -euo pipefail
