@@ -33,7 +33,7 @@ orig_tarball() {
     inside && /^Package: / { exit }
     inside && /^Directory: / { dir = $2 }
     inside && /^Checksums-Sha256:/ { sums = 1; next }
-    inside && sums && /^ / { if ($3 ~ /\.orig\.tar\.xz$/) { sha = $1; file = $3 }; next }
+    inside && sums && /^ / { if ($3 ~ /\.orig\.tar\.(xz|gz)$/) { sha = $1; file = $3 }; next }
     inside && sums { sums = 0 }
     END { if (file) print dir, sha, file }'
 }
@@ -57,7 +57,7 @@ if [ "$(cat "$FAILED" 2>/dev/null)" = "$FILE" ]; then
   fail "$FILE did not build here before (delete $FAILED to try again)"
 fi
 echo "build-python: building Python $VERSION from $FILE into $PREFIX (log: $LOG)" >&2
-tar -xJf "$WORK/$FILE" -C "$WORK"
+tar -xf "$WORK/$FILE" -C "$WORK"
 SOURCE=$(find "$WORK" -mindepth 1 -maxdepth 1 -type d -name 'Python-*' | head -1)
 [ -n "$SOURCE" ] || fail "$FILE holds no Python-* folder"
 if ! (cd "$SOURCE" &&
