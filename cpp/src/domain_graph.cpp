@@ -101,6 +101,30 @@ bool all_see_each_other(const SurfaceQuery& query, const Points& points,
   return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
 }
 
+// Whether the cycle through `pts` spans a disk inside the shape: its centroid is inside and
+// sees every point of it (a fan of segments from the centroid). Such a cycle is contractible:
+// it runs around a concave corner (a crotch, an armpit), not around a handle, even where some
+// of its points do not see each other.
+bool spans_inner_disk(const SurfaceQuery& query, const Points& points,
+                      const std::vector<int>& pts) {
+  if (pts.empty()) return false;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int p : pts) centroid += points.row(p).transpose();
+  centroid /= static_cast<double>(pts.size());
+  if (!query.inside(centroid)) return false;
+  std::vector<double> a, b;
+  for (int p : pts) {
+    for (int k = 0; k < 3; ++k) {
+      a.push_back(centroid[k]);
+      b.push_back(points(p, k));
+    }
+  }
+  const int count = static_cast<int>(pts.size());
+  std::vector<unsigned char> blocked(count);
+  query.segments_blocked(a.data(), b.data(), count, 0.0, blocked.data());
+  return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
+}
+
 // The widest chord of the shape through the midpoint of a and b, across the segment between
 // them: the longest of 12 lines through the midpoint, every 15 degrees in the plane normal to
 // b - a, each cut at the first surface hit on either side. A tube gives about its diameter, a
@@ -694,7 +718,7 @@ void keep_handle_cycles(GraphWork& w, int genus) {
     if (static_cast<int>(w.kept_cycles.size()) >= genus) break;
     std::vector<int> pts, links;
     paths.cycle(g.candidates, l, pts, links);
-    if (all_see_each_other(w.query, g.points, pts)) {
+    if (all_see_each_other(w.query, g.points, pts) || spans_inner_disk(w.query, g.points, pts)) {
       ++g.cycles_rejected_visible;
       continue;
     }

@@ -100,7 +100,9 @@ struct DomainGraph {
   Edges candidates;                 ///< #L point pairs (a < b) whose regions share an edge
   Eigen::VectorXd costs;            ///< #L mean |F| along the segment (infinity: leaves the shape)
   Eigen::VectorXi candidate_state;  ///< #L 0 unused, 1 tree link, 2 kept cycle link
-  int cycles_rejected_visible = 0;  ///< candidates whose cycle points all see each other
+  /// candidates whose cycle points all see each other, or whose cycle spans a disk inside the
+  /// shape (its centroid inside and seeing all of them: a crotch, not a handle)
+  int cycles_rejected_visible = 0;
   int cycles_rejected_duplicate = 0;  ///< candidates duplicating a kept cycle
   // --- the kept graph ---------------------------------------------------------------------
   std::vector<int> nodes;         ///< #N the point each node is
