@@ -299,11 +299,7 @@ def j2j_parts(V, heads, tails, joints, parents, far=FAR_JOINT) -> Dict[str, floa
       "j2j_theirs_far" the part from their joints farther than `far` from all our bones (a
       root on the floor, a hub outside the body: joints our skeleton does not reach).
     """
-    side = float(np.ptp(np.asarray(V, dtype=float), axis=0).max()) or 1.0
-    ours = (np.asarray(heads, dtype=float), np.asarray(tails, dtype=float))
-    our_joints = unique_points(np.concatenate(ours))
-    joints = np.asarray(joints, dtype=float).reshape(-1, 3)
-    theirs = parent_segments(joints, parents)
+    side, ours, our_joints, joints, theirs = _both_skeletons(V, heads, tails, joints, parents)
     if not len(theirs[0]):  # one joint, no bone: distances to the joint itself
         theirs = (joints, joints)
     nearest = point_distances(our_joints, joints) * (100.0 / side)
@@ -324,15 +320,23 @@ def unique_points(points, tolerance=1e-9) -> np.ndarray:
     return points[np.sort(np.unique(keys, axis=0, return_index=True)[1])]
 
 
+def _both_skeletons(V, heads, tails, joints, parents):
+    """What `skeleton_metrics` and `j2j_parts` measure: (V's longest bounding-box side, our
+    bones (heads, tails), our joints (their distinct heads and tails), the artist's joints
+    #J x 3, the artist's bones (parent_segments))."""
+    side = float(np.ptp(np.asarray(V, dtype=float), axis=0).max()) or 1.0
+    ours = (np.asarray(heads, dtype=float), np.asarray(tails, dtype=float))
+    joints = np.asarray(joints, dtype=float).reshape(-1, 3)
+    return (side, ours, unique_points(np.concatenate(ours)), joints,
+            parent_segments(joints, parents))
+
+
 def skeleton_metrics(V, heads, tails, joints, parents, step=0.005) -> Dict[str, float]:
     """CD-J2J, CD-J2B and CD-B2B of a rig's bones (heads, tails #B x 3: its joints are the
     distinct heads and tails) against an artist's skeleton (joints #J x 3, parents: bones
     from each parent to each child), in % of V's longest bounding-box side (MagicArticulate's
     normalization). B2B samples both bone sets `step` x the longest side apart."""
-    side = float(np.ptp(np.asarray(V, dtype=float), axis=0).max()) or 1.0
-    ours = (np.asarray(heads, dtype=float), np.asarray(tails, dtype=float))
-    our_joints = unique_points(np.concatenate(ours))
-    theirs = parent_segments(joints, parents)
+    side, ours, our_joints, joints, theirs = _both_skeletons(V, heads, tails, joints, parents)
     return {"cd_j2j": 100.0 * chamfer_j2j(our_joints, joints) / side,
             "cd_j2b": 100.0 * chamfer_j2b(our_joints, ours, joints, theirs) / side,
             "cd_b2b": 100.0 * chamfer_b2b(ours, theirs, step * side) / side}

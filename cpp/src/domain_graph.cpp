@@ -82,6 +82,16 @@ double arc_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Ei
   return on_arc ? on_circle : std::min((p - a).norm(), (p - c).norm());
 }
 
+// Whether none of the segments a[i]-b[i] (xyz triples, one after the other) meets the surface.
+bool none_blocked(const SurfaceQuery& query, const std::vector<double>& a,
+                  const std::vector<double>& b) {
+  const int count = static_cast<int>(a.size() / 3);
+  if (count == 0) return true;
+  std::vector<unsigned char> blocked(count);
+  query.segments_blocked(a.data(), b.data(), count, 0.0, blocked.data());
+  return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
+}
+
 // Whether every pair of `pts` sees each other (no segment between two of them meets the surface).
 bool all_see_each_other(const SurfaceQuery& query, const Points& points,
                         const std::vector<int>& pts) {
@@ -94,11 +104,7 @@ bool all_see_each_other(const SurfaceQuery& query, const Points& points,
       }
     }
   }
-  const int count = static_cast<int>(a.size() / 3);
-  if (count == 0) return true;
-  std::vector<unsigned char> blocked(count);
-  query.segments_blocked(a.data(), b.data(), count, 0.0, blocked.data());
-  return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
+  return none_blocked(query, a, b);
 }
 
 // Whether the cycle through `pts` spans a disk inside the shape: its centroid is inside and
@@ -119,10 +125,7 @@ bool spans_inner_disk(const SurfaceQuery& query, const Points& points,
       b.push_back(points(p, k));
     }
   }
-  const int count = static_cast<int>(pts.size());
-  std::vector<unsigned char> blocked(count);
-  query.segments_blocked(a.data(), b.data(), count, 0.0, blocked.data());
-  return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
+  return none_blocked(query, a, b);
 }
 
 // The widest chord of the shape through the midpoint of a and b, across the segment between
@@ -718,7 +721,8 @@ void keep_handle_cycles(GraphWork& w, int genus) {
     if (static_cast<int>(w.kept_cycles.size()) >= genus) break;
     std::vector<int> pts, links;
     paths.cycle(g.candidates, l, pts, links);
-    if (all_see_each_other(w.query, g.points, pts) || spans_inner_disk(w.query, g.points, pts)) {
+    // The fan (one segment per point) before the pairs (one per pair of points).
+    if (spans_inner_disk(w.query, g.points, pts) || all_see_each_other(w.query, g.points, pts)) {
       ++g.cycles_rejected_visible;
       continue;
     }

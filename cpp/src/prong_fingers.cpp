@@ -109,6 +109,8 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
     const double apart = (mesh_.V.row(a.peak->vertex) - mesh_.V.row(b.peak->vertex)).norm();
     return a.hand == b.hand && apart <= kFingerSpread * std::max(a.length, b.length);
   };
+  std::vector<char> thin(found.size());
+  for (std::size_t a = 0; a < found.size(); ++a) thin[a] = found[a].aspect >= kFingerAspect;
   std::vector<int> group(found.size());
   std::iota(group.begin(), group.end(), 0);
   const auto find = [&](int x) {
@@ -117,16 +119,14 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
   };
   for (std::size_t a = 0; a < found.size(); ++a)
     for (std::size_t b = 0; b < a; ++b)
-      if (found[a].aspect >= kFingerAspect && found[b].aspect >= kFingerAspect &&
-          close(found[a], found[b]))
+      if (thin[a] && thin[b] && close(found[a], found[b]))
         group[find(static_cast<int>(a))] = find(static_cast<int>(b));
   std::vector<int> members(found.size(), 0);
   for (std::size_t a = 0; a < found.size(); ++a)
-    if (found[a].aspect >= kFingerAspect) ++members[find(static_cast<int>(a))];
+    if (thin[a]) ++members[find(static_cast<int>(a))];
   std::vector<char> finger(found.size(), 0);
   for (std::size_t a = 0; a < found.size(); ++a)
-    finger[a] =
-        found[a].aspect >= kFingerAspect && members[find(static_cast<int>(a))] >= kFingerCount;
+    finger[a] = thin[a] && members[find(static_cast<int>(a))] >= kFingerCount;
   // A thumb: shorter, beside a finger of the same hand.
   std::vector<const Peak*> out;
   for (std::size_t a = 0; a < found.size(); ++a) {
