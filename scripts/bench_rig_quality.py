@@ -14,10 +14,13 @@ method. A second set of CD columns ("inside") leaves out the artist's joints out
 (winding number, scripts/mesh_parts.py: a root on the floor, a hub above the body, IK targets),
 each kept joint's parent its nearest kept ancestor (dcg.metrics.kept_joints): how much of the
 distance is joints no skeleton inside the shape can reach (a diagnostic; issue 17's targets are
-on the plain columns). Writes the Markdown table to --out (and prints it) and one
-JSON line per character to the same path with .jsonl.
+on the plain columns). A second table sets each CD beside the character's before issue 17's
+bone planner (scripts/rig_quality_before.json: measured at that commit, the command in the
+file), the issue's "no character worse than today". Writes the Markdown tables to --out (and
+prints them) and one JSON line per character to the same path with .jsonl.
 """
 import argparse
+import json
 import sys
 import time
 from pathlib import Path
@@ -35,6 +38,10 @@ REFERENCES = [
      "cd_b2b": 3.67},
 ]
 METRICS = ["cd_j2j", "cd_j2b", "cd_b2b"]
+#: Each character's CDs before issue 17's bone planner, measured at the commit the file names.
+BEFORE = quality_tables.ROOT / "scripts" / "rig_quality_before.json"
+#: A CD is worse than before when it grew by more than this (% of the longest side).
+WORSE_BY = 0.005
 PARTS = ["j2j_ours", "j2j_ours_far", "j2j_theirs", "j2j_theirs_far"]
 INSIDE_METRICS = ["inside_" + m for m in METRICS]
 COLUMNS = [("character", "name", ""), ("CD-J2J %", "cd_j2j", ".3f"),
@@ -80,6 +87,46 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
         row.update(metrics.mirror_error(V, plan["names"], plan["heads"], plan["tails"],
                                         plane.normal, plane.offset))
     return row
+
+
+def against_before(row, before) -> dict:
+    """`row`'s CDs beside `before` (the character's entry of BEFORE; None: not measured then):
+    "before_<metric>" and "change_<metric>" (now - then) of each, and "worse", the names of
+    those that grew by more than WORSE_BY ("" when none; "-" without a before)."""
+    if before is None:
+        return {"worse": "-"}
+    out, worse = {}, []
+    for key in METRICS:
+        out["before_" + key] = before[key]
+        out["change_" + key] = row[key] - before[key]
+        if out["change_" + key] > WORSE_BY:
+            worse.append(key[3:].upper())
+    out["worse"] = ", ".join(worse)
+    return out
+
+
+def before_table(rows, path=BEFORE) -> list:
+    """The Markdown lines comparing `rows` (and their mean) with the CDs in `path`."""
+    if not path.exists():
+        return []
+    before = json.loads(path.read_text())
+    for row in rows:
+        row.update(against_before(row, before["characters"].get(row["name"])))
+    compared = [row for row in rows if row["worse"] != "-"]
+    worse = [row["name"] for row in compared if row["worse"]]
+    columns = [("character", "name", "")]
+    for key in METRICS:
+        label = key[3:].upper()
+        columns += [(f"{label} before %", "before_" + key, ".3f"),
+                    (f"{label} now %", key, ".3f"), (f"{label} change", "change_" + key, "+.3f")]
+    summary = quality_tables.mean_row(compared, [key for _, key, _ in columns[1:]],
+                                      name=f"**mean of {len(compared)}**")
+    summary["worse"] = f"{len(worse)} of {len(compared)}"
+    return ["", f"Against the skeleton before issue 17 (commit {before['commit']}; "
+            f"`{path.name}`): each CD then and now, the change (negative: closer to the "
+            f"artist's), and which grew by more than {WORSE_BY:g}. Worse in at least one: "
+            f"{', '.join(worse) or 'none'}.", ""] + quality_tables.table(
+                columns + [("worse", "worse", "")], compared + [summary])
 
 
 def main():
@@ -129,6 +176,7 @@ def main():
               "all our bones (`dcg.metrics.j2j_parts`): what is left is how densely and where "
               "along the limbs the joints fall.", ""]
     lines += quality_tables.table(COLUMNS, rows + [mean])
+    lines += before_table(rows)
     lines += ["", "Reference rows (other sets: MagicArticulate's Articulation-XL / ModelsResource "
               "figures as the papers give them; not measured here):", ""]
     lines += quality_tables.table([("method", "name", "")] + COLUMNS[1:4], REFERENCES)

@@ -53,3 +53,40 @@ def test_bench_says_when_mcf_made_different_skeletons_in_its_runs():
                              "runs_skeleton_vertices": [48, 48]}) == ""  # the same skeleton
     assert bench.mcf_spread({"runs_seconds": [0.5], "runs_skeleton_vertices": [48]}) == ""
     assert bench.mcf_spread({}) == ""  # MCF did not run
+
+
+def test_rig_quality_sets_each_cd_beside_the_one_before_issue_17(tmp_path):
+    import json
+
+    import bench_rig_quality as rq  # scripts/ is on sys.path (conftest)
+
+    before = {"cd_j2j": 3.0, "cd_j2b": 2.0, "cd_b2b": 1.0}
+    row = {"name": "A", "cd_j2j": 2.5, "cd_j2b": 2.004, "cd_b2b": 1.2}
+    compared = rq.against_before(row, before)
+    assert compared["change_cd_j2j"] == pytest.approx(-0.5)
+    assert compared["before_cd_b2b"] == 1.0
+    assert compared["worse"] == "B2B"  # J2B grew by less than WORSE_BY
+    assert rq.against_before(row, None) == {"worse": "-"}
+    # The table: a character measured then, one that was not, the mean of those compared.
+    path = tmp_path / "before.json"
+    path.write_text(json.dumps({"commit": "abc", "characters": {"A": before}}))
+    rows = [row, {"name": "B", "cd_j2j": 9.0, "cd_j2b": 9.0, "cd_b2b": 9.0}]
+    lines = rq.before_table(rows, path)
+    assert "Worse in at least one: A." in lines[1]
+    assert lines[-2].startswith("| A | 3.000 | 2.500 | -0.500 |") and lines[-2].endswith("| B2B |")
+    assert lines[-1].startswith("| **mean of 1** |") and lines[-1].endswith("| 1 of 1 |")
+    assert not any(line.startswith("| B |") for line in lines)
+    assert rq.before_table(rows, tmp_path / "missing.json") == []
+
+
+def test_rig_quality_before_names_every_rigged_character(meshes_dir):
+    import json
+
+    import bench_rig_quality as rq
+    from dcg import metrics
+
+    before = json.loads(rq.BEFORE.read_text())["characters"]
+    names = {name for name, _, _ in metrics.rigged_characters(meshes_dir / "rigged")}
+    assert names, f"no rigged characters in {meshes_dir / 'rigged'}"
+    assert names <= set(before), sorted(names - set(before))
+    assert all(set(rq.METRICS) <= set(cds) for cds in before.values())
