@@ -118,7 +118,7 @@ else
 fi
 BLENDER_FILES+=("$BLENDER_RESULT")
 
-for series in ${BPY_SERIES:-4.2 4.5 5.0 5.1 5.3}; do
+for series in ${BPY_SERIES:-4.2 4.5 5.0 5.1 5.2 5.3}; do
   result="$RESULTS/blender-bpy-$series.xml"
   BLENDER_FILES+=("$result")
   header "Blender tests: bpy $series (the extension)"
