@@ -16,11 +16,16 @@ namespace dcg_py {
 namespace {
 
 // parents: None (found from the bones' ends, see dcg::Bones) or #B indices, -1 at a root.
+// deform: None (every bone deforms) or #B flags (see dcg::Bones::deform).
 dcg::Bones make_bones(const dcg::Points& heads, const dcg::Points& tails,
-                      const py::object& parents = py::none()) {
+                      const py::object& parents = py::none(),
+                      const py::object& deform = py::none()) {
   dcg::Bones bones;
   bones.heads = heads;
   bones.tails = tails;
+  if (!deform.is_none()) {
+    for (const bool flag : deform.cast<std::vector<bool>>()) bones.deform.push_back(flag ? 1 : 0);
+  }
   if (!parents.is_none()) {
     const auto p = parents.cast<Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>>();
     bones.parents.resize(p.size());
@@ -104,10 +109,10 @@ void bind_weights(py::module_& m) {
       "skin_weights",
       [](const dcg::Vertices& V, const Faces64& F, const dcg::Points& heads,
          const dcg::Points& tails, const py::dict& options, py::object progress,
-         const py::object& parents) {
+         const py::object& parents, const py::object& deform) {
         const dcg::Faces faces = to_faces(F, V.rows());
         const dcg::Options o = options_from_dict(options);
-        const dcg::Bones bones = make_bones(heads, tails, parents);
+        const dcg::Bones bones = make_bones(heads, tails, parents, deform);
         ProgressBridge bridge(std::move(progress));
         return run_released(bridge, [&] {
           return dcg::compute_skin_weights(V, faces, bones, o, bridge.callback());
@@ -115,6 +120,7 @@ void bind_weights(py::module_& m) {
       },
       py::arg("V"), py::arg("F"), py::arg("heads"), py::arg("tails"), py::arg("options"),
       py::arg("progress") = py::none(), py::arg("parents") = py::none(),
+      py::arg("deform") = py::none(),
       "Bone heat weights of V's vertices (on V itself, or stage 0's working mesh when large), "
       "as SkinWeights.");
   m.def(
@@ -130,7 +136,8 @@ void bind_weights(py::module_& m) {
          const Eigen::Vector3d& offset,
          const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& map_face,
          const dcg::Vertices& map_barycentric, const dcg::Points& heads, const dcg::Points& tails,
-         const py::dict& options, py::object progress, const py::object& parents) {
+         const py::dict& options, py::object progress, const py::object& parents,
+         const py::object& deform) {
         dcg::PreparedMesh prepared;
         prepared.working.V = working_V;
         prepared.working.F = to_faces(working_F, working_V.rows());
@@ -149,7 +156,7 @@ void bind_weights(py::module_& m) {
         }
         prepared.map_barycentric = map_barycentric;
         const dcg::WeightsOptions o = options_from_dict(options).weights;
-        const dcg::Bones bones = make_bones(heads, tails, parents);
+        const dcg::Bones bones = make_bones(heads, tails, parents, deform);
         ProgressBridge bridge(std::move(progress));
         return run_released(bridge, [&] {
           return dcg::compute_skin_weights(prepared, bones, o, bridge.callback());
@@ -158,6 +165,7 @@ void bind_weights(py::module_& m) {
       py::arg("working_V"), py::arg("working_F"), py::arg("scale"), py::arg("offset"),
       py::arg("map_face"), py::arg("map_barycentric"), py::arg("heads"), py::arg("tails"),
       py::arg("options"), py::arg("progress") = py::none(), py::arg("parents") = py::none(),
+      py::arg("deform") = py::none(),
       "Bone heat weights from a stage-0 result (dcg.PreparedMesh's arrays).");
 }
 

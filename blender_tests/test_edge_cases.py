@@ -19,9 +19,11 @@ def dcg_armature():
 
 
 def bones_world(arm):
+    """The deforming bones' heads and tails in world space (the root bone stands on the
+    world's floor, wherever the mesh's own axes point)."""
     from dcg_rig import armature
 
-    heads, tails = armature.bone_world_segments(arm)
+    heads, tails = armature.bone_world_segments(arm, deforming=True)
     return np.vstack([heads, tails])
 
 

@@ -101,6 +101,7 @@ def test_exported_files_reimport_as_a_skinned_mesh_with_the_same_bones(cli_outpu
     (arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
     meshes = [o for o in bpy.data.objects if o.type == "MESH"]
     assert len(arm.data.bones) == saved_bone_count(cli_outputs / "r.blend")
+    assert "root" in arm.data.bones  # the root bone on the floor goes out with the rest
     skinned = [m for m in meshes if any(md.type == "ARMATURE" and md.object == arm
                                         for md in m.modifiers)]
     assert skinned and len(skinned[0].vertex_groups) > 0
@@ -160,7 +161,7 @@ def test_cli_names_a_humanoids_bones_after_mixamo(repo, tmp_path):
     if not os.path.isfile(source):
         pytest.skip(f"{source} not found (set DCG_MESHES)")
     result = run_cli(repo, source, "-o", tmp_path / "k.blend", "--weights", "NONE",
-                     "--bone-names", "mixamo")
+                     "--bone-names", "mixamo", "--no-root-bone")
     assert result.returncode == 0, result.stdout + result.stderr
     with bpy.data.libraries.load(str(tmp_path / "k.blend")) as (source_data, target):
         target.armatures = [n for n in source_data.armatures if "DCG Rig" in n]
@@ -168,3 +169,4 @@ def test_cli_names_a_humanoids_bones_after_mixamo(repo, tmp_path):
     names = {bone.name for bone in armature.bones}
     bpy.data.armatures.remove(armature)
     assert {"Hips", "Spine", "Head", "LeftForeArm", "RightUpLeg", "LeftFoot"} <= names
+    assert "root" not in names  # --no-root-bone: Hips is the root, as in Mixamo's own rig

@@ -129,7 +129,7 @@ def test_every_bone_lies_inside_the_mesh(rigged):
     depsgraph = bpy.context.evaluated_depsgraph_get()  # after the change (4.x needs it so)
     tree = BVHTree.FromObject(rigged, depsgraph)
     matrix = rigged.matrix_world
-    heads, tails = armature.bone_world_segments(arm)
+    heads, tails = armature.bone_world_segments(arm, deforming=True)  # the root: the floor
     to_local = np.array(matrix.inverted())
     size = max(rigged.dimensions)
     outside = []

@@ -48,7 +48,14 @@ def test_rig_spot_gives_a_bound_armature_inside_the_mesh(spot, weights):
     (arm,) = armatures()
     bones = arm.data.bones
     assert len(bones) > 0
-    assert {b["dcg_kind"] for b in bones} <= {"end", "joint", "connection"}
+    assert {b["dcg_kind"] for b in bones} <= {"end", "joint", "connection", "root"}
+    # One root bone, the parent of the rest, deforming nothing: no vertex follows it alone.
+    (root,) = [b for b in bones if b["dcg_kind"] == "root"]
+    assert root.parent is None and not root.use_deform
+    assert all(b.parent is not None for b in bones if b != root)
+    group = spot.vertex_groups.get(root.name)
+    assert group is None or not any(g.group == group.index and g.weight > 0
+                                    for v in spot.data.vertices for g in v.groups)
     assert spot.parent == arm
     assert any(m.type == "ARMATURE" and m.object == arm for m in spot.modifiers)
     # The rest bones lie in the mesh's world bounding box (the mesh was moved and scaled).
@@ -56,10 +63,15 @@ def test_rig_spot_gives_a_bound_armature_inside_the_mesh(spot, weights):
     low, high = corners.min(axis=0), corners.max(axis=0)
     from dcg_rig import armature
 
-    heads, tails = armature.bone_world_segments(arm)
+    heads, tails = armature.bone_world_segments(arm, deforming=True)
     pad = 1e-6 * np.linalg.norm(high - low)
     for points in (heads, tails):
         assert (points >= low - pad).all() and (points <= high + pad).all()
+    # The root bone stands on the floor (world z) under the middle of the mesh.
+    matrix = np.array(arm.matrix_world)
+    head = matrix[:3, :3] @ np.array(root.head_local) + matrix[:3, 3]
+    assert abs(head[2] - low[2]) < 0.02 * (high[2] - low[2])
+    assert (head[:2] > low[:2]).all() and (head[:2] < high[:2]).all()
     # Every vertex is weighted, normalized, with at most 4 influences.
     sums = vertex_weight_sums(spot)
     assert np.allclose(sums, 1.0, atol=1e-3), f"{np.sum(~np.isclose(sums, 1, atol=1e-3))} bad"
@@ -70,7 +82,7 @@ def test_posing_a_bone_moves_the_mesh(spot):
     assert rig(weights="ENVELOPE") == {"FINISHED"}
     (arm,) = armatures()
     rest = evaluated_vertices(spot)
-    pose_bone = max(arm.pose.bones, key=lambda b: b.length)
+    pose_bone = max((b for b in arm.pose.bones if b.bone.use_deform), key=lambda b: b.length)
     pose_bone.rotation_mode = "QUATERNION"
     pose_bone.rotation_quaternion = Quaternion((1.0, 0.0, 0.0), 0.8)
     bpy.context.view_layer.update()
@@ -78,6 +90,23 @@ def test_posing_a_bone_moves_the_mesh(spot):
     moved = np.linalg.norm(posed - rest, axis=1)
     assert moved.max() > 1e-3
     assert moved.min() < 1e-9 or (moved < 0.5 * moved.max()).any()
+
+
+def test_moving_the_root_bone_moves_the_whole_mesh(spot):
+    assert rig() == {"FINISHED"}  # the engine's weights, every vertex weighted
+    (arm,) = armatures()
+    rest = evaluated_vertices(spot)
+    root = arm.pose.bones["root"]
+    root.location = (0.0, 0.3, 0.0)  # along the bone's own Y axis: up, the way it points
+    root.rotation_mode = "QUATERNION"
+    root.rotation_quaternion = Quaternion((0.0, 1.0, 0.0), 0.5)
+    bpy.context.view_layer.update()
+    posed = evaluated_vertices(spot)
+    # Every vertex moved, and rigidly: the distances between vertices are kept.
+    assert np.linalg.norm(posed - rest, axis=1).min() > 1e-3
+    some = np.linspace(0, len(rest) - 1, 200).astype(int)
+    apart = [np.linalg.norm(p[some][:, None] - p[some][None], axis=2) for p in (rest, posed)]
+    assert np.abs(apart[1] - apart[0]).max() < 1e-4 * np.ptp(rest, axis=0).max()
 
 
 def test_rigging_again_replaces_the_previous_rig(spot):

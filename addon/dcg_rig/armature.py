@@ -16,11 +16,13 @@ from . import mesh_io
 RIG_PROPERTY = "dcg_rig"  #: custom property that marks an armature object as a DCG rig
 MODIFIER_NAME = "DCG Rig"
 
-#: Colors by kind (normal, selected, active): end red, joint purple, connection blue.
+#: Colors by kind (normal, selected, active): end red, joint purple, connection blue, the root
+#: (a control that deforms nothing) yellow.
 KIND_COLORS = {
     "end": ((0.90, 0.12, 0.10), (1.00, 0.45, 0.40), (1.00, 0.75, 0.70)),
     "joint": ((0.60, 0.15, 0.85), (0.80, 0.45, 1.00), (0.92, 0.75, 1.00)),
     "connection": ((0.10, 0.35, 0.95), (0.40, 0.60, 1.00), (0.75, 0.85, 1.00)),
+    "root": ((0.95, 0.75, 0.10), (1.00, 0.88, 0.40), (1.00, 0.95, 0.70)),
 }
 
 
@@ -78,6 +80,7 @@ def build_armature(context, mesh_obj, plan, collection=None, name=None):
         bone["dcg_node"] = spec.node
         bone["dcg_link"] = spec.link
         bone["dcg_radii"] = (float(spec.head_radius), float(spec.tail_radius))
+        bone.use_deform = spec.kind != "root"
     _color_bones(arm_obj, plan)
     return arm_obj
 
@@ -172,11 +175,13 @@ def bind(mesh_obj, arm_obj):
     return modifier
 
 
-def bone_world_segments(arm_obj):
-    """Return (heads, tails) #B by 3 of the rest bones in world space, in bone order."""
+def bone_world_segments(arm_obj, deforming=False):
+    """Return (heads, tails) #B by 3 of the rest bones in world space, in bone order (only
+    those that deform, not the root bone, when `deforming`)."""
     matrix = np.array(arm_obj.matrix_world, dtype=float)
-    heads = np.array([b.head_local for b in arm_obj.data.bones], dtype=float).reshape(-1, 3)
-    tails = np.array([b.tail_local for b in arm_obj.data.bones], dtype=float).reshape(-1, 3)
+    bones = [b for b in arm_obj.data.bones if b.use_deform or not deforming]
+    heads = np.array([b.head_local for b in bones], dtype=float).reshape(-1, 3)
+    tails = np.array([b.tail_local for b in bones], dtype=float).reshape(-1, 3)
     return (heads @ matrix[:3, :3].T + matrix[:3, 3], tails @ matrix[:3, :3].T + matrix[:3, 3])
 
 

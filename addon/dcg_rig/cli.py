@@ -76,7 +76,7 @@ def _parser(engine_specs, addon_options):
     parser.add_argument("--off", help="write the imported mesh (joined, world space, "
                                       "triangulated) as OFF; alone, nothing is rigged")
     parser.add_argument("--png", help="render a picture of the rig (mesh in x-ray, bones "
-                                      "colored by kind: end red, joint purple, connection blue)")
+                                      "colored by kind: end red, joint purple, connection blue, root yellow)")
     parser.add_argument("--up", choices=("auto", "y", "z"), default="auto",
                         help="the file's up axis (auto: y for OBJ, z for OFF/PLY/STL; "
                              "FBX and glTF carry their own)")
@@ -91,6 +91,9 @@ def _parser(engine_specs, addon_options):
                         default=addon_options.ADDON_DEFAULTS["bone_names"],
                         help="dcg (descriptive) or mixamo (a humanoid's bones after Mixamo's "
                              "rig, for retargeting)")
+    parser.add_argument("--root-bone", action=argparse.BooleanOptionalAction,
+                        default=addon_options.ADDON_DEFAULTS["root_bone"],
+                        help="start the rig with a root bone on the floor that deforms nothing")
     for spec in engine_specs:
         flag = "--" + spec.name.replace("_", "-")
         if spec.kind == "enum":
@@ -173,7 +176,8 @@ def main():
                      if getattr(args, s.name) is not None}
     try:
         bpy.ops.object.dcg_auto_rig(weights=args.weights, bone_detail=args.bone_detail,
-                                    bone_names=args.bone_names, **engine_kwargs)
+                                    bone_names=args.bone_names, root_bone=args.root_bone,
+                                    **engine_kwargs)
     except RuntimeError as error:
         _fail(str(error).strip())
     arm_obj, mesh_obj = _rig_mesh_object()

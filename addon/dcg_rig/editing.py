@@ -115,7 +115,8 @@ def _parents_first(bones):
 def plan_of_armature(engine, arm_obj):
     """The armature's bones as a bone plan ([dcg.bones.BoneSpec], world space, parents
     first): kinds, nodes and radii as planned, a bone the user added taking its parent's
-    kind and radius; each bone's Z axis its own (its roll)."""
+    kind and radius (a "connection" under the root, which deforms nothing); each bone's Z axis
+    its own (its roll)."""
     matrix = np.array(arm_obj.matrix_world, dtype=float)
     rotation, offset = matrix[:3, :3], matrix[:3, 3]
     plan, by_name = [], {}
@@ -129,12 +130,17 @@ def plan_of_armature(engine, arm_obj):
         radii = bone.get("dcg_radii", (fallback, fallback))
         spec = engine.bones.BoneSpec(
             bone.name, head, tail, parent.name if parent else None, bone.use_connect,
-            str(bone.get("dcg_kind", parent.kind if parent else "connection")),
+            str(bone.get("dcg_kind", _added_kind(parent))),
             int(bone.get("dcg_node", -1)), int(bone.get("dcg_link", -1)), float(radii[0]),
             float(radii[1]), z_axis, engine.rolls.blender_roll(head, tail, z_axis))
         plan.append(spec)
         by_name[spec.name] = spec
     return plan
+
+
+def _added_kind(parent):
+    """The kind of a bone the user added under `parent` (a BoneSpec or None)."""
+    return parent.kind if parent is not None and parent.kind != "root" else "connection"
 
 
 def partner_name(name):

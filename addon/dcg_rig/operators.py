@@ -245,7 +245,8 @@ def show_preview(context, mesh_obj, extractor, values):
     return the planner's warnings."""
     skeleton = extractor.skeleton()
     collection = preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
-    plan, warnings = rigging.plan_bones(skeleton, values["bone_detail"], values["bone_names"])
+    plan, warnings = rigging.plan_bones(skeleton, values["bone_detail"], values["bone_names"],
+                                        values["root_bone"])
     if plan:
         engine = _engine.require()
         mixamo = engine.humanoid.is_mixamo(plan)  # planned from the pelvis: its own plane
@@ -311,7 +312,8 @@ class OBJECT_OT_dcg_auto_rig(_EngineOperator, bpy.types.Operator):
         edited = editing.edited_plan(_engine.require(), mesh_obj)
         result = rigging.apply_rig(context, mesh_obj, skeleton, values["weights"],
                                    values["bone_detail"], extractor.prepare(),
-                                   self.engine_options(values), values["bone_names"], edited)
+                                   self.engine_options(values), values["bone_names"], edited,
+                                   values["root_bone"])
         live.forget()  # the rig replaced the preview
         arm_obj = result.armature
         arm_obj["dcg_timings"] = {k: float(v) for k, v in skeleton.timings.items()}

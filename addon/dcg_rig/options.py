@@ -7,7 +7,7 @@ engine's. The add-on's own settings (weights, bone detail) live in `ADDON_DEFAUL
 from dataclasses import dataclass
 
 # The add-on's own settings, shared by the panel, the operators and the CLI.
-ADDON_DEFAULTS = {"weights": "DCG", "bone_detail": 0.5, "bone_names": "DCG"}
+ADDON_DEFAULTS = {"weights": "DCG", "bone_detail": 0.5, "bone_names": "DCG", "root_bone": True}
 
 WEIGHT_METHODS = (
     ("DCG", "DCG", "The engine's own bone heat weights: every vertex weighted, open and "

@@ -6,7 +6,7 @@ panel then shows the reason and the operators report it.
 """
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from . import _engine, options
 
@@ -68,6 +68,11 @@ def addon_annotations(flags=frozenset(), with_weights=True):
         default=options.ADDON_DEFAULTS["bone_names"], options=set(flags),
         description="How the bones are named: descriptive, or after Mixamo's rig for a "
                     "humanoid (then its chains get Mixamo's bone counts, not Bone Detail's)")
+    result["root_bone"] = BoolProperty(
+        name="Root Bone", default=options.ADDON_DEFAULTS["root_bone"], options=set(flags),
+        description="Start the rig with a root bone on the floor under the body, parent of "
+                    "all the others and deforming nothing: what moves the whole character "
+                    "(game engines' root motion, Rigify's root)")
     if with_weights:
         result["weights"] = EnumProperty(
             name="Weights", items=options.WEIGHT_METHODS,

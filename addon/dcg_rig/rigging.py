@@ -76,13 +76,15 @@ def reusable_prepared(mesh_obj, prepared):
     return prepared
 
 
-def plan_bones(skeleton, bone_detail, bone_names):
+def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAULTS["root_bone"]):
     """(the bone plan of `skeleton`, warnings): the package's planner (dcg.bones.plan_bones)
     at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"; a warning when Mixamo's
-    names were asked for a skeleton that is not humanoid), and a warning when limbs of a shape
-    that mirrors itself did not pair (dcg.bones.unpaired_limbs)."""
+    names were asked for a skeleton that is not humanoid), with a root bone on the floor
+    (world +Z up) when `root_bone`, and a warning when limbs of a shape that mirrors itself
+    did not pair (dcg.bones.unpaired_limbs)."""
     engine = _engine.require()
-    plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower())
+    plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower(),
+                                   root_bone=bool(root_bone), up=(0.0, 0.0, 1.0))
     warnings = []
     if bone_names == "MIXAMO" and not engine.humanoid.is_mixamo(plan):
         warnings.append("the skeleton is not humanoid (one head, two arms, two legs, upright "
@@ -97,11 +99,12 @@ def plan_bones(skeleton, bone_detail, bone_names):
 
 def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS["weights"],
               bone_detail=options.ADDON_DEFAULTS["bone_detail"], prepared=None,
-              engine_options=None, bone_names=options.ADDON_DEFAULTS["bone_names"], plan=None):
+              engine_options=None, bone_names=options.ADDON_DEFAULTS["bone_names"], plan=None,
+              root_bone=options.ADDON_DEFAULTS["root_bone"]):
     """Rig `mesh_obj` from `skeleton` (world coordinates); return a RigResult.
 
     The bones are `plan` when given (world space: the edited preview skeleton), else the
-    planner's (`plan_bones` at `bone_detail` with `bone_names`). Transactional: the mesh's
+    planner's (`plan_bones` at `bone_detail` with `bone_names` and `root_bone`). Transactional: the mesh's
     earlier DCG rigs are detached (not deleted) while the new rig is built and bound. On
     success they are deleted along with the preview; on failure the new armature is deleted
     and the earlier binding (vertex groups, modifiers, parent) is restored, then the
@@ -109,7 +112,7 @@ def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS[
     """
     warnings = []
     if plan is None:
-        plan, warnings = plan_bones(skeleton, bone_detail, bone_names)
+        plan, warnings = plan_bones(skeleton, bone_detail, bone_names, root_bone)
     if not plan:
         raise RigError(f"the skeleton of {mesh_obj.name} has no bones "
                        f"({len(skeleton.positions)} nodes, {len(skeleton.links)} links)")

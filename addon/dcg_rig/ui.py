@@ -54,6 +54,7 @@ class VIEW3D_PT_dcg_rig(bpy.types.Panel):
         col.prop(settings, "weights")
         col.prop(settings, "bone_detail", slider=True)
         col.prop(settings, "bone_names")
+        col.prop(settings, "root_bone")
         row = layout.row()
         row.scale_y = 1.5
         row.operator("object.dcg_auto_rig", icon="ARMATURE_DATA")

@@ -94,13 +94,15 @@ def _dcg_weights(mesh_obj, plan, prepared=None, engine_options=None):
 
 def _envelope(mesh_obj, plan, vertices):
     """Return sparse envelope weights (rows, cols, values) of the mesh's vertices (or of
-    the subset `vertices`, an index array) to the bones of `plan`."""
+    the subset `vertices`, an index array) to the bones of `plan` that deform (not the root)."""
     points = mesh_io.world_vertices(mesh_obj)
     index = np.arange(len(points)) if vertices is None else np.asarray(vertices)
+    deform = [s for s in plan if s.kind != "root"]
     rows, cols, values = skinning.envelope_weights(
-        points[index], np.array([s.head for s in plan]), np.array([s.tail for s in plan]),
-        [s.head_radius for s in plan], [s.tail_radius for s in plan])
-    return index[rows], cols, values
+        points[index], np.array([s.head for s in deform]), np.array([s.tail for s in deform]),
+        [s.head_radius for s in deform], [s.tail_radius for s in deform])
+    columns = np.array([i for i, s in enumerate(plan) if s.kind != "root"], dtype=np.int64)
+    return index[rows], columns[np.asarray(cols, dtype=np.int64)], values
 
 
 def _bone_heat_checked(context, mesh_obj, arm_obj, plan):

@@ -53,7 +53,7 @@ from .batch_jobs import (BLENDER_FORMATS, ENGINE_FORMATS, SUFFIXES, BatchError, 
                          options_key, outputs_of)
 from .batch_progress import Progress, Summary
 from .batch_worker import rig_model, weights_npz
-from .bones import BONE_DETAIL, BONE_NAMES, check_bone_names
+from .bones import BONE_DETAIL, BONE_NAMES, ROOT_BONE, check_bone_names
 
 __all__ = [
     "run", "BatchError", "Job", "Summary", "Progress", "rig_model", "weights_npz",
@@ -87,14 +87,16 @@ def run(in_dir, out_dir, *, options: Optional[Dict[str, Any]] = None,
         scheduler: Optional[str] = None, workers: Optional[int] = None, glb: bool = False,
         force: bool = False, retry_failed: bool = False, blender: Optional[str] = None,
         blender_cli: Optional[str] = None, timeout: Optional[float] = None, retries: int = 2,
-        bone_detail: float = BONE_DETAIL, bone_names: str = BONE_NAMES, client=None,
+        bone_detail: float = BONE_DETAIL, bone_names: str = BONE_NAMES,
+        root_bone: bool = ROOT_BONE, client=None,
         progress: Optional[TextIO] = sys.stderr,
         on_result: Optional[Callable[[Dict[str, Any]], None]] = None) -> Summary:
     """Rig every model under in_dir into out_dir (see the module's documentation).
 
     options: engine options (dcg.OPTIONS names; ValueError when bad). bone_detail: the bone
-    plan's detail and bone_names its naming convention (dcg.bones.plan_bones: "dcg", or
-    "mixamo" for humanoids), for the .weights.npz and the .glb alike. blender,
+    plan's detail, bone_names its naming convention (dcg.bones.plan_bones: "dcg", or
+    "mixamo" for humanoids) and root_bone whether it starts with a root bone on the floor, for
+    the .weights.npz and the .glb alike. blender,
     blender_cli: the Blender executable and the add-on's cli.py (dcg.batch_blender finds them
     when None). client: an existing distributed.Client to use instead of `scheduler` / a
     LocalCluster of `workers`. progress: where the progress bar goes (None: nowhere).
@@ -112,6 +114,7 @@ def run(in_dir, out_dir, *, options: Optional[Dict[str, Any]] = None,
     check_bone_names(bone_names)
     options = dict(options or {})
     key = options_key({**normalize_options(options), "bone_detail": float(bone_detail),
+                       "root_bone": bool(root_bone),
                        **({} if bone_names == BONE_NAMES else {"bone_names": bone_names})})
     out_dir.mkdir(parents=True, exist_ok=True)
     records = read_index(out_dir)
@@ -120,7 +123,7 @@ def run(in_dir, out_dir, *, options: Optional[Dict[str, Any]] = None,
     models = find_models(in_dir, glb, exclude=out_dir)
     summary = Summary(found=len(models))
     template = Job("", "", options, glb, blender, blender_cli, timeout, float(bone_detail),
-                   bone_names)
+                   bone_names, bool(root_bone))
     jobs, stamps = [], {}
     for path in models:
         stamps[path] = fingerprint(in_dir / path)

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
 from .batch_jobs import BatchError, Job
-from .bones import BONE_NAMES
+from .bones import BONE_NAMES, ROOT_BONE
 
 BLENDER_CLI_ENV = "DCG_BLENDER_CLI"
 BLENDER_ENV = "BLENDER"
@@ -101,10 +101,11 @@ def check_glb_tools(blender: Optional[str], blender_cli: Optional[str]) -> str:
 
 
 def cli_flags(options: Dict[str, Any], bone_detail: float,
-              bone_names: str = BONE_NAMES) -> List[str]:
-    """Engine options, the bone detail and the bone names' convention as the add-on CLI's
-    flags (--target-faces 20000 ...)."""
-    flags = ["--bone-detail", repr(float(bone_detail)), "--bone-names", bone_names]
+              bone_names: str = BONE_NAMES, root_bone: bool = ROOT_BONE) -> List[str]:
+    """Engine options, the bone detail, the bone names' convention and the root bone as the
+    add-on CLI's flags (--target-faces 20000 ...)."""
+    flags = ["--bone-detail", repr(float(bone_detail)), "--bone-names", bone_names,
+             "--root-bone" if root_bone else "--no-root-bone"]
     for name, value in sorted(options.items()):
         flags += [f"--{name.replace('_', '-')}", str(value)]
     return flags
@@ -138,5 +139,5 @@ def read_with_blender(job: Job, off_path: str, timeout: Optional[float]) -> None
 def rig_with_blender(job: Job, glb_path: str, timeout: Optional[float]) -> None:
     """Write the model rigged by the add-on (its bone plan at job.bone_detail) to `glb_path`."""
     run_addon_cli(job, [job.source, "--glb", glb_path, *cli_flags(job.options, job.bone_detail,
-                                                              job.bone_names)],
+                                                              job.bone_names, job.root_bone)],
                   "rigging it in Blender", timeout)

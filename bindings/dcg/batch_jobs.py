@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Dict, List, Optional
 
-from .bones import BONE_DETAIL, BONE_NAMES
+from .bones import BONE_DETAIL, BONE_NAMES, ROOT_BONE
 
 ENGINE_FORMATS = (".obj", ".off", ".ply", ".stl")
 #: Read only through Blender's importers, so only with --glb.
@@ -36,6 +36,7 @@ class Job:
     timeout   seconds per model (engine: checked at its progress reports; Blender: killed)
     bone_detail  the bone plan's detail (dcg.bones), for the .weights.npz and the .glb alike
     bone_names   the bone plan's naming convention ("dcg", or "mixamo" for humanoids), likewise
+    root_bone    whether the plan starts with a root bone on the floor (dcg.bones.add_root)
     """
 
     path: str
@@ -47,6 +48,14 @@ class Job:
     timeout: Optional[float] = None
     bone_detail: float = BONE_DETAIL
     bone_names: str = BONE_NAMES
+    root_bone: bool = ROOT_BONE
+
+
+def file_up(path: str) -> tuple:
+    """The up direction of the mesh the engine reads for `path`: +Y for OBJ (its usual axes),
+    else +Z (OFF, PLY and STL, and what Blender writes out of FBX and glTF), as the add-on's
+    CLI (--up auto) imports it; the root bone's floor lies across it."""
+    return (0.0, 1.0, 0.0) if path.lower().endswith(".obj") else (0.0, 0.0, 1.0)
 
 
 def find_models(in_dir: Path, glb: bool = False, exclude: Optional[Path] = None) -> List[str]:

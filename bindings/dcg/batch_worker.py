@@ -14,8 +14,8 @@ from typing import Any, Dict, Optional
 import numpy as np
 
 from .batch_blender import read_with_blender, rig_with_blender
-from .batch_jobs import BLENDER_FORMATS, BatchError, Job
-from .bones import BONE_DETAIL, BONE_NAMES, bone_arrays, plan_bones
+from .batch_jobs import BLENDER_FORMATS, BatchError, Job, file_up
+from .bones import BONE_DETAIL, BONE_NAMES, ROOT_BONE, UP, bone_arrays, plan_bones
 
 
 class _Deadline:
@@ -38,19 +38,21 @@ def _package():
 
 def weights_npz(V, F, skeleton, prepared=None, progress=None,
                 bone_detail: float = BONE_DETAIL, options=None,
-                bone_names: str = BONE_NAMES) -> tuple:
+                bone_names: str = BONE_NAMES, root_bone: bool = ROOT_BONE, up=UP) -> tuple:
     """The .weights.npz bytes and the weights status: "ok", or "unavailable: why".
 
     The file holds the bones the add-on makes of `skeleton` (dcg.bones.plan_bones at
-    `bone_detail`, named by `bone_names`' convention, as arrays by dcg.bones.bone_arrays):
+    `bone_detail`, named by `bone_names`' convention, with a root bone on the floor across `up`
+    when `root_bone`, as arrays by dcg.bones.bone_arrays):
     bone_names, bone_heads, bone_tails, bone_parents (-1 at a root), bone_links, bone_kinds,
     bone_z_axes (#B x 3, each bone's local Z axis) and bone_rolls (#B, Blender's roll for it,
     radians, in the model's coordinates); then status (the same text), vertices (#V) and, when the status is "ok",
     weights: #V x #B float32, the weights of the input's vertices (in load_mesh order) per
-    bone, from dcg.skin_weights (rows sum to 1). No weights are made up when it is missing.
+    bone, from dcg.skin_weights (rows sum to 1; the root bone's column is zero: it deforms
+    nothing). No weights are made up when it is missing.
     `options`: dcg.OPTIONS values (the weights' own used).
     """
-    bones = bone_arrays(plan_bones(skeleton, bone_detail, bone_names))
+    bones = bone_arrays(plan_bones(skeleton, bone_detail, bone_names, root_bone=root_bone, up=up))
     skin_weights = getattr(_package(), "skin_weights", None)
     W = None
     if skin_weights is None:
@@ -59,7 +61,8 @@ def weights_npz(V, F, skeleton, prepared=None, progress=None,
         status = "unavailable: the skeleton has no bones"
     else:
         result = skin_weights(V, F, bones["heads"], bones["tails"], parents=bones["parents"],
-                              prepared=prepared, progress=progress, **(options or {}))
+                              deform=bones["kinds"] != "root", prepared=prepared,
+                              progress=progress, **(options or {}))
         W = np.asarray(result.dense(), dtype=np.float32)
         status = "ok"
     arrays = {f"bone_{key}": value for key, value in bones.items()}
@@ -86,7 +89,7 @@ def _rig_files(job: Job, record: Dict[str, Any], deadline: _Deadline, tmp: str):
     files["json"] = skeleton.to_json().encode("utf-8")
     files["weights"], record["weights"] = weights_npz(
         V, F, skeleton, extractor.prepare(), deadline, job.bone_detail, job.options,
-        job.bone_names)
+        job.bone_names, job.root_bone, file_up(job.path))
     record.update(nodes=skeleton.node_count, links=int(len(skeleton.links)),
                   genus=skeleton.genus, repaired=skeleton.repaired, method=skeleton.method,
                   engine_seconds=round(skeleton.timings.get("total", 0.0), 4))

@@ -71,6 +71,11 @@ def build_parser() -> argparse.ArgumentParser:
                        help="how bones are named: dcg (by limb and side, arm.002.L) or mixamo (a "
                        "humanoid's bones named and counted after Mixamo's rig, for retargeting; "
                        f"other shapes keep the dcg names; default {bones.BONE_NAMES})")
+    batch.add_argument("--root-bone", action=argparse.BooleanOptionalAction,
+                       default=bones.ROOT_BONE,
+                       help="start each rig with a root bone on the floor (+Y up for OBJ, +Z "
+                       "for the others, as the add-on's CLI imports them) that deforms nothing "
+                       f"(default {'on' if bones.ROOT_BONE else 'off'})")
     batch.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     _add_option_flags(batch, OPTIONS)
     return parser
@@ -86,7 +91,7 @@ def run_batch(args: argparse.Namespace) -> int:
                             retry_failed=args.retry_failed, blender=args.blender,
                             blender_cli=args.blender_cli, timeout=args.timeout,
                             retries=args.retries, bone_detail=args.bone_detail,
-                            bone_names=args.bone_names,
+                            bone_names=args.bone_names, root_bone=args.root_bone,
                             progress=None if args.quiet else sys.stderr)
     except batch.BatchError as error:
         print(f"error: {error}", file=sys.stderr)

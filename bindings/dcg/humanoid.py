@@ -327,7 +327,7 @@ def mixamo_plan(skeleton):
         return None
     chains = _chain_ends(body)
     kept = _tree_links(skeleton)  # the view's links are these of the skeleton's
-    plan = plan_bones(_rooted(skeleton, body.pelvis, kept), limb_fractions={
+    plan = plan_bones(_rooted(skeleton, body.pelvis, kept), root_bone=False, limb_fractions={
         node: CHAIN_FRACTIONS[chain] for node, (chain, _, _) in chains.items()})
     by_name = {spec.name: spec for spec in plan}
     renamed, roles = {}, {}

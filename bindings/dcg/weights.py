@@ -50,14 +50,16 @@ def _points(name, array) -> np.ndarray:
     return array
 
 
-def _bones(bones, tails, parents=None):
-    """Heads, tails and parents (None: found from the bones' ends) from (heads, tails) arrays, a
-    Skeleton or a list of bone objects (with .parent, a name of another, when they have it)."""
+def _bones(bones, tails, parents=None, deform=None):
+    """Heads, tails, parents (None: found from the bones' ends) and deform flags (None: all
+    deform) from (heads, tails) arrays, a Skeleton or a list of bone objects (with .parent, a
+    name of another, when they have it; with .kind, a "root" bone deforms nothing)."""
     if tails is not None:
         heads, tails = _points("heads", bones), _points("tails", tails)
     elif hasattr(bones, "polylines") and hasattr(bones, "links"):
         plan = bone_arrays(plan_bones(bones))
         heads, tails, parents = plan["heads"], plan["tails"], plan["parents"]
+        deform = plan["kinds"] != "root"
     else:
         try:
             items = list(bones)
@@ -70,6 +72,8 @@ def _bones(bones, tails, parents=None):
             if parents is None and all(hasattr(b, "parent") and hasattr(b, "name") for b in items):
                 index = {b.name: i for i, b in enumerate(items)}
                 parents = [index.get(b.parent, -1) for b in items]  # None or unknown: a root
+            if deform is None and any(getattr(b, "kind", None) == "root" for b in items):
+                deform = [getattr(b, "kind", None) != "root" for b in items]
         else:
             raise ValueError("bones must be a Skeleton, a non-empty list of bones with .head "
                              "and .tail, or heads with tails")
@@ -83,10 +87,30 @@ def _bones(bones, tails, parents=None):
             raise ValueError(f"parents must be {len(heads)} bone indices (-1: a root), got "
                              f"{parents.dtype} x {len(parents)}")
         parents = parents.astype(np.int64)
-    return heads, tails, parents
+    if deform is not None:
+        deform = np.asarray(deform).reshape(-1)
+        if len(deform) != len(heads) or deform.dtype != bool:
+            raise ValueError(f"deform must be {len(heads)} booleans, got {deform.dtype} x "
+                             f"{len(deform)}")
+        if not deform.any():
+            raise ValueError("weights need at least one bone that deforms")
+    return heads, tails, parents, deform
 
 
-def skin_weights(V, F, bones, tails=None, *, parents=None, prepared=None,
+def _kept_parents(parents, deform) -> np.ndarray:
+    """The parent of each deforming bone among the deforming bones alone (numbered in order):
+    its nearest deforming ancestor, -1 when none."""
+    position = np.cumsum(deform) - 1
+    kept = []
+    for bone in np.flatnonzero(deform):
+        parent = parents[bone]
+        while parent >= 0 and not deform[parent]:
+            parent = parents[parent]
+        kept.append(position[parent] if parent >= 0 else -1)
+    return np.array(kept, dtype=np.int64)
+
+
+def skin_weights(V, F, bones, tails=None, *, parents=None, deform=None, prepared=None,
                  progress: Optional[Callable[[str, float], Optional[bool]]] = None,
                  **options) -> SkinWeights:
     """Bone heat skinning weights of the vertices of (V #V x 3, F #F x 3).
@@ -97,7 +121,9 @@ def skin_weights(V, F, bones, tails=None, *, parents=None, prepared=None,
     bone_detail). Bones are in V's coordinates. Column b of the result is bone b. parents: #B
     indices of each bone's parent (-1 at a root) for heads and tails; a Skeleton or a plan
     brings its own; else a bone's parent is the first bone whose tail is at its head. The bone
-    tree limits which bones share a vertex (bone_reach, far_weight).
+    tree limits which bones share a vertex (bone_reach, far_weight). deform: #B booleans, False
+    for a bone that weights no vertex (a control: the plan's "root" bone, which a Skeleton or
+    a plan marks itself); its column stays empty.
 
     The weights solve on (V, F) itself (welded cracks, degenerate faces dropped), unless it has
     more than 2.5 x target_faces faces: then on stage 0's working mesh, the one the skeleton gets
@@ -117,7 +143,7 @@ def skin_weights(V, F, bones, tails=None, *, parents=None, prepared=None,
     from . import as_mesh
 
     V, F = as_mesh(V, F)
-    heads, tails, parents = _bones(bones, tails, parents)
+    heads, tails, parents, deform = _bones(bones, tails, parents, deform)
     clean = normalize_options(options)
     if prepared is not None:
         map_face = np.ascontiguousarray(prepared.map_face, dtype=np.int64).reshape(-1)
@@ -125,13 +151,13 @@ def skin_weights(V, F, bones, tails=None, *, parents=None, prepared=None,
             raise ValueError(f"prepared maps {len(map_face)} vertices but V has {len(V)}: "
                              "pass the PreparedMesh of this mesh")
     if prepared is None or not _core.weights_on_working_mesh(len(F), clean):
-        return _core.skin_weights(V, F, heads, tails, clean, progress, parents)
+        return _core.skin_weights(V, F, heads, tails, clean, progress, parents, deform)
     return _core.skin_weights_prepared(
         np.ascontiguousarray(prepared.vertices, dtype=np.float64),
         np.ascontiguousarray(prepared.faces, dtype=np.int64), float(prepared.scale),
         np.asarray(prepared.offset, dtype=np.float64).reshape(3), map_face,
         np.ascontiguousarray(prepared.map_barycentric, dtype=np.float64).reshape(-1, 3),
-        heads, tails, clean, progress, parents)
+        heads, tails, clean, progress, parents, deform)
 
 
 class BoneHeat(_core.BoneHeat):
@@ -152,14 +178,22 @@ class BoneHeat(_core.BoneHeat):
 
         super().__init__(*as_mesh(V, F))
 
-    def solve(self, bones, tails=None, *, parents=None,
+    def solve(self, bones, tails=None, *, parents=None, deform=None,
               progress: Optional[Callable[[str, float], Optional[bool]]] = None,
               **options) -> np.ndarray:
-        """#V x #B weights for `bones` (as skin_weights takes them, parents included, in V's
-        coordinates).
+        """#V x #B weights for `bones` (as skin_weights takes them, parents and deform
+        included, in V's coordinates; a bone that does not deform has a column of zeros).
 
         options: heat and tie_tolerance (any of dcg.OPTIONS is accepted). The GIL is released
         while it works; progress(stage, fraction) returning False raises dcg.Cancelled.
         """
-        heads, tails, parents = _bones(bones, tails, parents)
-        return super().solve(heads, tails, normalize_options(options), progress, parents)
+        heads, tails, parents, deform = _bones(bones, tails, parents, deform)
+        if deform is None or deform.all():
+            return super().solve(heads, tails, normalize_options(options), progress, parents)
+        kept = np.flatnonzero(deform)
+        if parents is not None:
+            parents = _kept_parents(parents, deform)
+        W = np.zeros((len(self.areas), len(heads)))
+        W[:, kept] = super().solve(heads[kept], tails[kept], normalize_options(options),
+                                   progress, parents)
+        return W

@@ -174,6 +174,11 @@ void check_bones(const Bones& bones) {
       throw InputError("bone " + std::to_string(b) + " has a non-finite coordinate");
     }
   }
+  if (!bones.deform.empty() && static_cast<Eigen::Index>(bones.deform.size()) != bones.count()) {
+    throw InputError("bones need a deform flag each (or none), got " +
+                     std::to_string(bones.deform.size()) + " for " + std::to_string(bones.count()) +
+                     " bones");
+  }
   if (bones.parents.size() == 0) return;
   if (bones.parents.size() != bones.count()) {
     throw InputError("bones need a parent each (-1: none), got " +
@@ -841,12 +846,11 @@ Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& option
 
 namespace {
 
-// compute_skin_weights with progress fractions from `from` to `to` of the caller's whole run.
-SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
-                         const WeightsOptions& options, const Progress& progress, double from,
-                         double to) {
-  options.validate();
-  check_bones(bones);
+// compute_skin_weights of bones that all deform, with progress fractions from `from` to `to` of
+// the caller's whole run.
+SkinWeights deforming_weights(const PreparedMesh& prepared, const Bones& bones,
+                              const WeightsOptions& options, const Progress& progress, double from,
+                              double to) {
   const auto total_start = Clock::now();
   auto at = [&](double f) { return from + (to - from) * f; };
   const Mesh& working = prepared.working;
@@ -970,6 +974,51 @@ SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
   out.timings.emplace_back("transfer", seconds_since(start));
   progress.report("weights", at(1));
   out.timings.emplace_back("total", seconds_since(total_start));
+  return out;
+}
+
+// The bones of `bones` that deform (Bones::deform) and, per kept bone, its index in `bones`; a
+// kept bone's parent is its nearest kept ancestor (-1: none).
+Bones deforming_bones(const Bones& bones, std::vector<int>& index) {
+  const Eigen::VectorXi parents = bone_parents(bones);
+  std::vector<int> kept_as(bones.count(), -1);
+  index.clear();
+  for (Eigen::Index b = 0; b < bones.count(); ++b) {
+    if (bones.deform[b]) {
+      kept_as[b] = static_cast<int>(index.size());
+      index.push_back(static_cast<int>(b));
+    }
+  }
+  if (index.empty()) throw InputError("weights need at least one bone that deforms");
+  Bones kept;
+  const auto count = static_cast<Eigen::Index>(index.size());
+  kept.heads.resize(count, 3);
+  kept.tails.resize(count, 3);
+  kept.parents = Eigen::VectorXi::Constant(count, -1);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    kept.heads.row(k) = bones.heads.row(index[k]);
+    kept.tails.row(k) = bones.tails.row(index[k]);
+    int p = parents[index[k]];
+    while (p >= 0 && kept_as[p] < 0) p = parents[p];
+    if (p >= 0) kept.parents[k] = kept_as[p];
+  }
+  return kept;
+}
+
+// deforming_weights of the bones that deform, numbered as in `bones` (a control has none).
+SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
+                         const WeightsOptions& options, const Progress& progress, double from,
+                         double to) {
+  options.validate();
+  check_bones(bones);
+  if (std::all_of(bones.deform.begin(), bones.deform.end(), [](char d) { return d != 0; })) {
+    return deforming_weights(prepared, bones, options, progress, from, to);
+  }
+  std::vector<int> index;
+  SkinWeights out =
+      deforming_weights(prepared, deforming_bones(bones, index), options, progress, from, to);
+  for (Eigen::Index e = 0; e < out.cols.size(); ++e) out.cols[e] = index[out.cols[e]];
+  out.bone_count = static_cast<int>(bones.count());
   return out;
 }
 

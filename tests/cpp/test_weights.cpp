@@ -388,6 +388,31 @@ TEST(WeightsHeat, CapsuleChainIsMonotonicAcrossTheJoint) {
   }
 }
 
+TEST(WeightsHeat, ABoneThatDoesNotDeformGetsNoWeightAndKeepsTheNumbering) {
+  // A root control from below the capsule to the chain's first head, parent of the chain:
+  // its column stays empty and the chain's weights are those of the chain alone.
+  const Mesh m = capsule(0.5, 2.0);
+  const Bones alone = chain();
+  Bones rooted;
+  rooted.heads.resize(3, 3);
+  rooted.tails.resize(3, 3);
+  rooted.heads << 0, 0, -2, alone.heads;
+  rooted.tails << alone.heads.row(0), alone.tails;
+  rooted.parents.resize(3);
+  rooted.parents << -1, 0, 1;
+  rooted.deform = {0, 1, 1};
+  const dcg::SkinWeights w = dcg::compute_skin_weights(m.V, m.F, rooted, keep_input());
+  expect_valid(w, static_cast<int>(m.V.rows()), 3);
+  const Eigen::MatrixXd W = w.dense();
+  EXPECT_EQ(W.col(0).cwiseAbs().maxCoeff(), 0.0);
+  const Eigen::MatrixXd expected = dcg::compute_skin_weights(m.V, m.F, alone, keep_input()).dense();
+  EXPECT_LT((W.rightCols(2) - expected).cwiseAbs().maxCoeff(), 1e-12);
+  rooted.deform = {0, 0, 0};
+  EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, rooted, keep_input()), dcg::InputError);
+  rooted.deform = {1};
+  EXPECT_THROW(dcg::compute_skin_weights(m.V, m.F, rooted, keep_input()), dcg::InputError);
+}
+
 TEST(WeightsHeat, SolveMatchesADenseSolveOfTheHeatEquation) {
   // (-L + M H) w_b = M H p_b assembled here from the Laplacian, the areas and the nearest
   // visible bones, solved densely; 10 bones cover a full block of 8 and a partial one.

@@ -207,18 +207,22 @@ def test_the_npz_holds_the_bones_the_addon_makes(repo, bone_detail):
         assert np.array_equal(npz["bone_z_axes"], [spec.z_axis for spec in plan])
         assert np.array_equal(npz["bone_rolls"], [spec.roll for spec in plan])
         assert npz["weights"].shape == (len(V), len(plan))
-        # One tree chained away from the root: parents first, each head at its parent's tail.
+        # One tree chained away from the root bone: parents first, each head at its parent's
+        # tail; the root bone (first, the only one without a parent) weights no vertex.
         for b, parent in enumerate(npz["bone_parents"]):
             assert parent < b
             if parent >= 0:
                 assert np.allclose(npz["bone_heads"][b], npz["bone_tails"][parent])
-        # The roots at the root node, moved onto the mirror plane (spot mirrors itself) by at
-        # most MIRROR_REACH of its radius.
-        roots = npz["bone_heads"][npz["bone_parents"] < 0]
-        assert np.allclose(roots, roots[0])
+        assert npz["bone_kinds"][0] == "root" and list(npz["bone_parents"]).count(-1) == 1
+        assert not npz["weights"][:, 0].any() and np.allclose(npz["weights"].sum(axis=1), 1)
+        # Its children start at the root node, moved onto the mirror plane (spot mirrors
+        # itself) by at most MIRROR_REACH of its radius.
+        limbs = npz["bone_heads"][npz["bone_parents"] == 0]
+        assert np.allclose(limbs, limbs[0])
         reach = dcg.bones.symmetry.MIRROR_REACH * skeleton.radii[skeleton.root]
-        assert np.linalg.norm(roots[0] - skeleton.positions[skeleton.root]) <= reach
-        assert set(npz["bone_links"].tolist()) <= set(range(len(skeleton.links)))
+        assert np.linalg.norm(limbs[0] - skeleton.positions[skeleton.root]) <= reach
+        assert set(npz["bone_links"][1:].tolist()) <= set(range(len(skeleton.links)))
+        assert npz["bone_links"][0] == -1  # the root bone is no link's
 
 
 def test_weights_npz_says_unavailable_instead_of_making_weights_up(repo, monkeypatch):

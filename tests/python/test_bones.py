@@ -12,6 +12,12 @@ from conftest import shared_skeleton
 from dcg import bones, metrics, symmetry
 
 
+def limb_plan(skeleton, *args, **kwargs):
+    """plan_bones without its root bone: the limbs' chains that these tests (and test_naming's,
+    test_humanoid's) look at; the root bone has tests of its own (test_root_bone.py)."""
+    return bones.plan_bones(skeleton, *args, root_bone=False, **kwargs)
+
+
 @pytest.fixture
 def no_inset(monkeypatch):
     """End bones' tails exactly at their end nodes (END_INSET 0), for tests of the chains."""
@@ -46,7 +52,7 @@ def path_from_an_end():
 
 
 def test_plan_bones_one_chain_per_link_parents_first():
-    plan = bones.plan_bones(y_shape(), bone_detail=1.0)
+    plan = limb_plan(y_shape(), bone_detail=1.0)
     assert len(plan) == 3 + 1 + 1
     seen = set()
     for spec in plan:
@@ -60,7 +66,7 @@ def test_plan_bones_one_chain_per_link_parents_first():
 
 
 def test_the_first_arm_is_a_connected_chain_of_its_polyline(no_inset):
-    plan = bones.plan_bones(y_shape(), bone_detail=1.0)
+    plan = limb_plan(y_shape(), bone_detail=1.0)
     arm = [s for s in plan if s.link == 0]
     assert [s.name for s in arm] == ["head.001", "head.002", "head.003"]
     assert [s.parent for s in arm] == [None, "head.001", "head.002"]
@@ -71,7 +77,7 @@ def test_the_first_arm_is_a_connected_chain_of_its_polyline(no_inset):
 
 
 def test_bone_detail_zero_gives_one_bone_per_link(no_inset):
-    plan = bones.plan_bones(y_shape(), bone_detail=0.0)
+    plan = limb_plan(y_shape(), bone_detail=0.0)
     assert len(plan) == 3
     assert all(s.parent is None for s in plan)  # all start at the root node
     assert np.allclose(plan[0].tail, [0, 0, 1])  # straight to the node, inner points dropped
@@ -79,7 +85,7 @@ def test_bone_detail_zero_gives_one_bone_per_link(no_inset):
 
 def test_chains_run_away_from_the_root_whatever_the_links_order(no_inset):
     skeleton = path_from_an_end()
-    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    plan = limb_plan(skeleton, bone_detail=0.0)
     assert [(s.name, s.parent, s.use_connect) for s in plan] == [
         ("spine.001", None, False), ("limb1.001", "spine.001", True),
         ("limb2.001", "spine.001", True)]  # no mirror plane: limbs, numbered in plan order
@@ -93,7 +99,7 @@ def test_chains_run_away_from_the_root_whatever_the_links_order(no_inset):
 def test_a_cycle_keeps_every_link_and_the_hierarchy_stays_a_tree():
     ring = skeleton_of([[0, 0, 0], [1, 0, 0], [0, 1, 0]], ["joint"] * 3,
                        [[0, 1], [1, 2], [2, 0]])
-    plan = bones.plan_bones(ring, bone_detail=0.0)
+    plan = limb_plan(ring, bone_detail=0.0)
     assert len(plan) == 3
     names = {s.name: s for s in plan}
     for spec in plan:  # following parents always ends at a root: no cycle
@@ -109,7 +115,7 @@ def test_a_part_the_root_cannot_reach_gets_its_bones_too():
     skeleton = skeleton_of([[0, 0, 0], [0, 0, 1], [5, 0, 0], [5, 0, 1]],
                            ["end", "end", "end", "end"], [[0, 1], [2, 3]], root=0,
                            radii=[0.1, 0.1, 0.1, 0.5])
-    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    plan = limb_plan(skeleton, bone_detail=0.0)
     assert [s.link for s in plan] == [0, 1] and [s.parent for s in plan] == [None, None]
     assert np.allclose(plan[1].head, [5, 0, 1])  # that part starts at its widest node
 
@@ -117,12 +123,12 @@ def test_a_part_the_root_cannot_reach_gets_its_bones_too():
 def test_zero_length_segments_are_merged_away():
     polyline = [[0, 0, 0], [0, 0, 0.5], [0, 0, 0.5], [0, 0, 1]]
     skeleton = skeleton_of([[0, 0, 0], [0, 0, 1]], ["end", "end"], [[0, 1]], [polyline])
-    plan = bones.plan_bones(skeleton, bone_detail=1.0)
+    plan = limb_plan(skeleton, bone_detail=1.0)
     assert len(plan) == 2 and np.allclose(plan[0].tail, plan[1].head)
 
 
 def test_bone_arrays_index_the_parents_in_plan_order():
-    plan = bones.plan_bones(y_shape(), bone_detail=1.0)
+    plan = limb_plan(y_shape(), bone_detail=1.0)
     arrays = bones.bone_arrays(plan)
     assert list(arrays["names"]) == [s.name for s in plan]
     assert arrays["heads"].shape == arrays["tails"].shape == (len(plan), 3)
@@ -162,7 +168,7 @@ def test_a_bent_tube_gets_its_joint_at_the_bend():
         skeleton = bent_tube(bend_at)
         points = skeleton.polylines[0]
         assert bones.articulations(points, np.full(len(points), 0.2), 2) == [0, bend_at, 9]
-        plan = bones.plan_bones(skeleton, bone_detail=0.4)  # round(0.4 x 5 x 1) = 2 bones
+        plan = limb_plan(skeleton, bone_detail=0.4)  # round(0.4 x 5 x 1) = 2 bones
         assert len(plan) == 2
         assert np.allclose(plan[0].tail, points[bend_at]) and plan[0].kind == "connection"
         assert plan[1].kind == "end" and plan[1].node == 1
@@ -179,35 +185,35 @@ def test_a_straight_limb_gets_its_joint_where_it_narrows(no_inset):
         radii = [0.3] * 5
         radii[thin] = 0.1
         skeleton = straight_chain(radii)
-        plan = bones.plan_bones(skeleton, bone_detail=0.1)  # round(0.1 x 5 x 4 links) = 2
+        plan = limb_plan(skeleton, bone_detail=0.1)  # round(0.1 x 5 x 4 links) = 2
         assert len(plan) == 2
         assert plan[0].node == thin and plan[0].kind == "connection"
         assert np.allclose(plan[0].tail, skeleton.positions[thin])
         assert plan[0].tail_radius == pytest.approx(0.1)
     # Without a narrowing a straight limb has nothing to prefer but fit: any split is exact.
-    plan = bones.plan_bones(straight_chain([0.3] * 5), bone_detail=0.1)
+    plan = limb_plan(straight_chain([0.3] * 5), bone_detail=0.1)
     assert len(plan) == 2 and np.allclose(plan[1].tail, [0, 0, 4])
 
 
 def test_a_limb_runs_through_connection_nodes_and_stops_at_branches(no_inset):
     skeleton = straight_chain([0.3, 0.3, 0.2, 0.3, 0.1])
-    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    plan = limb_plan(skeleton, bone_detail=0.0)
     assert len(plan) == 1  # one limb of four links, one bone
     assert np.allclose(plan[0].head, [0, 0, 0]) and np.allclose(plan[0].tail, [0, 0, 4])
     assert (plan[0].kind, plan[0].node, plan[0].link) == ("end", 4, 3)
     # y_shape's root joint branches three ways: three limbs, three bones at detail 0.
-    assert len(bones.plan_bones(y_shape(), bone_detail=0.0)) == 3
+    assert len(limb_plan(y_shape(), bone_detail=0.0)) == 3
     assert [len(limb) for limb in bones.limbs(skeleton)] == [4]
 
 
 def test_the_bone_count_follows_bone_detail():
     skeleton = straight_chain([0.3, 0.25, 0.2, 0.3, 0.25, 0.2, 0.1])  # 6 links, 24 segments
-    counts = [len(bones.plan_bones(skeleton, bone_detail=d)) for d in np.linspace(0, 1, 11)]
+    counts = [len(limb_plan(skeleton, bone_detail=d)) for d in np.linspace(0, 1, 11)]
     assert counts == sorted(counts)  # never fewer bones for more detail
     assert counts[0] == 1 and counts[-1] == 24 and counts[5] == 15  # 0.5: 2.5 per link
     assert bones.bone_count(6, 24, 0.5) == 15 and bones.bone_count(6, 24, 2.0) == 24
     assert bones.bone_count(6, 24, -1.0) == 1
-    plan = bones.plan_bones(skeleton, bone_detail=0.5)
+    plan = limb_plan(skeleton, bone_detail=0.5)
     for spec, child in zip(plan[:-1], plan[1:]):  # one connected chain, parents first
         assert child.parent == spec.name and child.use_connect
         assert np.allclose(child.head, spec.tail)
@@ -215,19 +221,19 @@ def test_the_bone_count_follows_bone_detail():
 
 def test_an_end_bone_stops_short_of_its_tip_by_the_radius_at_its_head():
     skeleton = straight_chain([0.3, 0.3, 0.3, 0.3, 0.2])
-    plan = bones.plan_bones(skeleton, bone_detail=0.1)  # two bones: 0 -> 2 -> 4 (z)
+    plan = limb_plan(skeleton, bone_detail=0.1)  # two bones: 0 -> 2 -> 4 (z)
     end = plan[-1]
     assert end.kind == "end" and end.node == 4 and end.head_radius == pytest.approx(0.3)
     assert np.allclose(end.tail, [0, 0, 4 - bones.END_INSET * 0.3])
     assert np.allclose(plan[0].tail, end.head)  # inner joints stay where they were
     # Never more than half the bone: a short end bone keeps half its length.
     short = skeleton_of([[0, 0, 0], [0, 0, 0.2]], ["joint", "end"], [[0, 1]], radii=[1, 1])
-    (only,) = bones.plan_bones(short)
+    (only,) = limb_plan(short)
     assert np.allclose(only.tail, [0, 0, 0.1])
     # An end node that branches on (degree > 1) keeps its bone's tail, its children's head.
     forked = skeleton_of([[0, 0, 0], [0, 0, 1], [0, 1, 2], [0, -1, 2]],
                          ["joint", "end", "end", "end"], [[0, 1], [1, 2], [1, 3]])
-    first = bones.plan_bones(forked, bone_detail=0.0)[0]
+    first = limb_plan(forked, bone_detail=0.0)[0]
     assert first.node == 1 and np.allclose(first.tail, [0, 0, 1])
 
 
@@ -247,7 +253,7 @@ def body(lean=0.0, arm_drop=0.0):
 
 
 def test_paired_limbs_get_mirrored_names_and_the_middle_keeps_its_own():
-    plan = bones.plan_bones(body(), bone_detail=1.0)
+    plan = limb_plan(body(), bone_detail=1.0)
     names = {s.name: s for s in plan}
     left = sorted(n for n in names if n.endswith(".L"))
     right = sorted(n for n in names if n.endswith(".R"))
@@ -264,10 +270,10 @@ def test_paired_limbs_get_mirrored_names_and_the_middle_keeps_its_own():
 
 
 def test_a_small_asymmetry_is_tolerated_a_large_one_is_not():
-    plan = bones.plan_bones(body(lean=0.05, arm_drop=0.05), bone_detail=1.0)
+    plan = limb_plan(body(lean=0.05, arm_drop=0.05), bone_detail=1.0)
     assert sum(s.name.endswith(".L") for s in plan) == 4
     assert sum(s.name.endswith(".R") for s in plan) == 4
-    skewed = bones.plan_bones(body(lean=0.9, arm_drop=1.5), bone_detail=1.0)
+    skewed = limb_plan(body(lean=0.9, arm_drop=1.5), bone_detail=1.0)
     assert not any(s.name.endswith((".L", ".R")) for s in skewed)
     assert sorted(s.name for s in skewed if s.kind == "end") == [
         "limb1.002", "limb2.002", "limb3.001", "limb4.002", "limb5.002"]  # limbs in plan order
@@ -303,7 +309,7 @@ def mirror_partners(plan):
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_a_slightly_asymmetric_skeleton_comes_out_exactly_mirrored(seed):
     skeleton = jittered_body(seed=seed)
-    plan = bones.plan_bones(skeleton, bone_detail=0.5)
+    plan = limb_plan(skeleton, bone_detail=0.5)
     plane = bones.plan_plane(skeleton)
     assert plane is not None and abs(plane.normal[0]) > 0.99
     pairs = mirror_partners(plan)
@@ -330,7 +336,7 @@ def test_joints_move_at_most_their_reach_toward_a_far_partner(no_inset):
     # arm does not tilt the plane either: the legs and the elbows still mirror across x = 0.
     skeleton = body(arm_drop=0.2)
     skeleton.radii = np.full(len(skeleton.positions), 0.05)
-    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    plan = limb_plan(skeleton, bone_detail=0.0)
     plane = bones.plan_plane(skeleton)
     assert np.allclose(plane.normal, [1, 0, 0], atol=1e-6) and abs(plane.offset) < 1e-6
     hands = {spec.name: spec for spec in plan if spec.node in (8, 10)}
@@ -353,7 +359,7 @@ def test_a_pair_too_far_apart_mirrors_exactly_when_the_shape_mirrors_itself(no_i
     skeleton = body(arm_drop=0.2)
     skeleton.radii = np.full(len(skeleton.positions), 0.05)
     skeleton.mirror_plane, skeleton.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
-    plan = bones.plan_bones(skeleton, bone_detail=0.0)
+    plan = limb_plan(skeleton, bone_detail=0.0)
     plane = bones.plan_plane(skeleton)
     assert np.allclose(plane.normal, [1, 0, 0]) and plane.offset == 0  # the shape's own
     pairs = mirror_partners(plan)
@@ -366,7 +372,7 @@ def test_a_pair_too_far_apart_mirrors_exactly_when_the_shape_mirrors_itself(no_i
     skeleton.mirror_error = 0.004
     assert 0.004 > bones.symmetry.COPY_TOLERANCE
     assert np.allclose(bones.plan_plane(skeleton).normal, [1, 0, 0])  # still the shape's plane
-    hands = {spec.name: spec for spec in bones.plan_bones(skeleton, bone_detail=0.0)
+    hands = {spec.name: spec for spec in limb_plan(skeleton, bone_detail=0.0)
              if spec.node in (8, 10)}
     gap = np.linalg.norm(plane.reflect(hands["arm.001.L"].tail) - hands["arm.001.R"].tail)
     assert gap == pytest.approx(0.2 - 2 * bones.symmetry.MIRROR_REACH * 0.05)
@@ -380,15 +386,15 @@ def test_a_middle_end_on_one_of_two_twin_features_ends_on_the_plane(no_inset):
     skeleton.polylines[1] = np.array([[0, 0, 1], [0, 0, 1.2], [0, 0, 1.4], [0.1, 0, 1.5],
                                       [0.2, 0, 1.55]])
     skeleton.mirror_plane, skeleton.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
-    (head,) = [spec for spec in bones.plan_bones(skeleton, bone_detail=1.0) if spec.node == 2]
+    (head,) = [spec for spec in limb_plan(skeleton, bone_detail=1.0) if spec.node == 2]
     assert head.kind == "end" and np.allclose(head.tail, [0, 0, 1.4])
     skeleton.mirror_error = 0.004  # above COPY_TOLERANCE: the shape's own asymmetry
-    (head,) = [spec for spec in bones.plan_bones(skeleton, bone_detail=1.0) if spec.node == 2]
+    (head,) = [spec for spec in limb_plan(skeleton, bone_detail=1.0) if spec.node == 2]
     assert np.allclose(head.tail, [0.2, 0, 1.55])
     skeleton.mirror_error = 1e-4  # the twin tip longer than TWIN_TIP radii: a limb of its own
     skeleton.positions[2] = [0.4, 0, 1.55]
     skeleton.polylines[1][-1] = [0.4, 0, 1.55]
-    (head,) = [spec for spec in bones.plan_bones(skeleton, bone_detail=1.0) if spec.node == 2]
+    (head,) = [spec for spec in limb_plan(skeleton, bone_detail=1.0) if spec.node == 2]
     assert np.allclose(head.tail, [0.4, 0, 1.55])
 
 
@@ -400,7 +406,7 @@ def test_limbs_that_should_pair_but_do_not_are_counted():
     skeleton.polylines[4] = skeleton.positions[[1, 5]]
     assert bones.unpaired_limbs(skeleton) == 0  # no plane of the shape: nothing expected
     skeleton.mirror_plane, skeleton.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
-    feet = [spec.name for spec in bones.plan_bones(skeleton) if spec.node in (4, 6)]
+    feet = [spec.name for spec in limb_plan(skeleton) if spec.node in (4, 6)]
     assert len(feet) == 2 and not any(name.endswith((".L", ".R")) for name in feet)
     assert bones.unpaired_limbs(skeleton) == 2
     symmetric = body()
@@ -421,7 +427,7 @@ def test_limbs_whose_ends_and_starts_mirror_pair_on_a_shape_that_mirrors_itself(
     assert sides[4][0] is None and sides[6][0] is None  # too different to pair as they are
     assert bones.unpaired_limbs(skeleton) == 0  # (no plane of the shape: nothing expected)
     skeleton.mirror_plane, skeleton.mirror_error = np.array([1.0, 0, 0, 0]), 1e-4
-    plan = bones.plan_bones(skeleton, bone_detail=1.0)
+    plan = limb_plan(skeleton, bone_detail=1.0)
     feet = {spec.node: spec for spec in plan if spec.node in (4, 6)}
     assert feet[4].name == feet[6].name[:-1] + "L" and feet[6].name.endswith(".R")
     plane = bones.plan_plane(skeleton)
@@ -440,10 +446,10 @@ def test_limbs_that_start_at_one_joint_off_the_plane_do_not_pair():
     links = [[0, 1], [1, 2], [2, 3], [1, 4], [4, 5], [0, 6]]
     skeleton = skeleton_of(positions, kinds, links)
     assert bones.plan_plane(skeleton) is not None
-    assert not mirror_partners(bones.plan_bones(skeleton))
+    assert not mirror_partners(limb_plan(skeleton))
     skeleton.positions[1] = [0.0, 0, 0]  # from a joint on the plane they pair
     skeleton.polylines = [skeleton.positions[[a, b]] for a, b in links]
-    assert len(mirror_partners(bones.plan_bones(skeleton, bone_detail=0.0))) == 1
+    assert len(mirror_partners(limb_plan(skeleton, bone_detail=0.0))) == 1
 
 
 def test_inside_tube_and_copies_inside():
@@ -491,7 +497,7 @@ def test_the_rigged_characters_pairs_mirror_exactly_and_stay_inside(meshes_dir):
         skeleton = shared_skeleton(V, F, name)
         plane = bones.plan_plane(skeleton)
         assert plane is not None and skeleton.mirror_error < bones.symmetry.SHAPE_TOLERANCE
-        plan = bones.plan_bones(skeleton)
+        plan = limb_plan(skeleton)
         arrays = bones.bone_arrays(plan)
         mirror = metrics.mirror_error(V, arrays["names"], arrays["heads"], arrays["tails"],
                                           plane.normal, plane.offset)
@@ -508,7 +514,7 @@ def test_the_rigged_characters_pairs_mirror_exactly_and_stay_inside(meshes_dir):
 def test_an_asymmetric_skeleton_is_rigged_as_it_is(no_inset):
     skeleton = body(lean=0.9, arm_drop=1.5)
     assert bones.plan_plane(skeleton) is None
-    plan = bones.plan_bones(skeleton, bone_detail=1.0)
+    plan = limb_plan(skeleton, bone_detail=1.0)
     for spec in plan:  # every joint is a node of the skeleton, where it was
         for point in (spec.head, spec.tail):
             assert np.min(np.linalg.norm(skeleton.positions - point, axis=1)) < 1e-12
@@ -525,7 +531,7 @@ def test_an_exactly_symmetric_shape_pairs_its_limbs_across_its_own_plane(meshes_
     assert nodes[2] > bones.symmetry.MIRROR_TOLERANCE  # no plane of the nodes
     assert skeleton.mirror_error < bones.symmetry.SHAPE_TOLERANCE / 10
     assert abs(skeleton.mirror_plane[0]) > 0.999 and abs(skeleton.mirror_plane[3]) < 1e-3
-    plan = bones.plan_bones(skeleton)
+    plan = limb_plan(skeleton)
     pairs = mirror_partners(plan)
     hooves = [(left, right) for left, right in pairs if left.kind == "end"]
     assert len(hooves) == 2  # four legs, in two pairs; the head's end stays in the middle
@@ -537,7 +543,7 @@ def test_an_exactly_symmetric_shape_pairs_its_limbs_across_its_own_plane(meshes_
     assert plane.normal[0] > 0.999
     older = dataclasses.replace(skeleton, mirror_plane=np.zeros(4), mirror_error=1.0)
     assert bones.plan_plane(older) is None
-    assert not mirror_partners(bones.plan_bones(older))
+    assert not mirror_partners(limb_plan(older))
     assert dcg.Skeleton.from_json(skeleton.to_json()).mirror_error == skeleton.mirror_error
 
 
@@ -558,7 +564,7 @@ def test_limbs_pair_only_when_they_end_alike():
 
 def test_rolls_turn_one_way_along_a_bent_chain():
     skeleton = bent_tube(bend_at=4)
-    plan = bones.plan_bones(skeleton, bone_detail=1.0)
+    plan = limb_plan(skeleton, bone_detail=1.0)
     z = np.array([spec.z_axis for spec in plan])
     along = np.array([spec.tail - spec.head for spec in plan])
     assert np.allclose(np.einsum("bi,bi->b", z, along), 0, atol=1e-12)  # normal to each bone
@@ -571,7 +577,7 @@ def test_rolls_turn_one_way_along_a_bent_chain():
 
 def test_paired_bones_axes_mirror_and_the_middles_lie_in_the_plane():
     skeleton = jittered_body(seed=3)
-    plan = bones.plan_bones(skeleton, bone_detail=0.5)
+    plan = limb_plan(skeleton, bone_detail=0.5)
     plane = bones.plan_plane(skeleton)
     for left, right in mirror_partners(plan):
         assert np.allclose(plane.reflect_direction(left.z_axis), right.z_axis, atol=1e-9)
@@ -615,7 +621,7 @@ def test_blender_roll_turns_the_roll_zero_axes_onto_the_z_axis():
 
 
 def test_bone_arrays_carry_the_z_axes_and_rolls():
-    plan = bones.plan_bones(jittered_body(), bone_detail=0.5)
+    plan = limb_plan(jittered_body(), bone_detail=0.5)
     arrays = bones.bone_arrays(plan)
     assert arrays["z_axes"].shape == (len(plan), 3) and arrays["rolls"].shape == (len(plan),)
     assert np.array_equal(arrays["rolls"], [spec.roll for spec in plan])

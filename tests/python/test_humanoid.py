@@ -8,6 +8,7 @@ import pytest
 
 import dcg
 from dcg import bones, humanoid
+from test_bones import limb_plan
 
 MIXAMO_BODY = {"Hips", "Spine", "Spine1", "Spine2", "Neck", "Head", "HeadTop_End"}
 MIXAMO_LIMBS = {side + name for side in ("Left", "Right") for name in (
@@ -43,7 +44,7 @@ def person_of_one_joint():
 
 
 def test_a_person_gets_mixamos_names_and_hierarchy():
-    plan = bones.plan_bones(person(), names="mixamo")
+    plan = limb_plan(person(), names="mixamo")
     named = {spec.name: spec for spec in plan}
     assert humanoid.is_mixamo(plan)
     assert set(named) == MIXAMO_BODY | MIXAMO_LIMBS
@@ -67,7 +68,7 @@ def test_a_person_gets_mixamos_names_and_hierarchy():
 
 
 def test_arms_and_legs_leaving_the_body_at_one_node_still_name_a_spine():
-    plan = bones.plan_bones(person_of_one_joint(), names="mixamo")
+    plan = limb_plan(person_of_one_joint(), names="mixamo")
     named = {spec.name: spec for spec in plan}
     assert humanoid.is_mixamo(plan)
     assert {"Hips", "Spine", "Neck", "Head"} <= set(named)
@@ -99,14 +100,14 @@ def test_other_shapes_keep_the_descriptive_names():
         [[0, 1], [0, 2], [0, 3], [0, 4], [0, 5]])
     for skeleton in (quadruped, extra_end, one_joint):
         assert humanoid.find_humanoid(skeleton) is None
-        plan = bones.plan_bones(skeleton, names="mixamo")
+        plan = limb_plan(skeleton, names="mixamo")
         assert not humanoid.is_mixamo(plan)
-        assert [s.name for s in plan] == [s.name for s in bones.plan_bones(skeleton)]
+        assert [s.name for s in plan] == [s.name for s in limb_plan(skeleton)]
 
 
 def test_an_unknown_convention_is_refused():
     with pytest.raises(ValueError, match="mixamo"):
-        bones.plan_bones(person(), names="unreal")
+        limb_plan(person(), names="unreal")
 
 
 @pytest.mark.parametrize("name", ["Q_Knight", "Q_Goblin", "CesiumMan"])
@@ -115,7 +116,7 @@ def test_real_characters_are_humanoid_left_is_the_artists_left_and_mirrors(meshe
     our Left bones lie on the same side as theirs."""
     V, F = dcg.load_mesh(str(meshes_dir / "rigged" / f"{name}.obj"))
     skeleton = dcg.extract_skeleton(V, F)
-    plan = bones.plan_bones(skeleton, names="mixamo")
+    plan = limb_plan(skeleton, names="mixamo")
     named = {spec.name: spec for spec in plan}
     assert set(named) == MIXAMO_BODY | MIXAMO_LIMBS
     joints = {}
@@ -184,7 +185,7 @@ def test_a_hands_fingers_get_mixamos_names():
     body = humanoid.find_humanoid(skeleton)
     assert body is not None and set(body.fingers) == {"L", "R"}
     assert [body.fingers["L"][name] for name in humanoid.FINGER_NAMES] == [7, 8, 9, 10, 11]
-    plan = bones.plan_bones(skeleton, names="mixamo")
+    plan = limb_plan(skeleton, names="mixamo")
     named = {spec.name: spec for spec in plan}
     fingers = {f"{side}Hand{finger}{i}" for side in ("Left", "Right")
                for finger in humanoid.FINGER_NAMES for i in (1, 2, 3)}
@@ -199,7 +200,7 @@ def test_real_fingers_are_named_after_the_artists(meshes_dir):
     the hand's own end is the fourth; each finger's last bone ends nearest the artist's joint of
     the same finger (thumb_03.l, index_03.l, ...)."""
     V, F = dcg.load_mesh(str(meshes_dir / "rigged" / "Mannequiny.obj"))
-    plan = {spec.name: spec for spec in bones.plan_bones(dcg.extract_skeleton(V, F),
+    plan = {spec.name: spec for spec in limb_plan(dcg.extract_skeleton(V, F),
                                                          names="mixamo")}
     joints = {}
     for line in open(meshes_dir / "rigged" / "Mannequiny.rig.txt"):
@@ -237,8 +238,8 @@ def test_loops_in_the_legs_are_left_out_and_each_leg_stays_one_chain():
         links += [[knee, knee + 1], [knee + 1, knee + 2], [knee + 2, knee]]
     skeleton = stick_figure(positions, kinds, links, root=1)
     assert humanoid.find_humanoid(skeleton) is not None
-    plan = bones.plan_bones(skeleton, names="mixamo")
+    plan = limb_plan(skeleton, names="mixamo")
     assert humanoid.is_mixamo(plan)
     assert {spec.name for spec in plan} == MIXAMO_BODY | MIXAMO_LIMBS
     assert not any(spec.link in loops for spec in plan)  # the loops have no bone
-    assert len(bones.plan_bones(skeleton)) > len(plan)  # the descriptive plan keeps them
+    assert len(limb_plan(skeleton)) > len(plan)  # the descriptive plan keeps them

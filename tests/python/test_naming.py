@@ -8,7 +8,7 @@ import pytest
 import dcg
 from conftest import shared_skeleton
 from dcg import bones, naming
-from test_bones import body, skeleton_of
+from test_bones import body, limb_plan, skeleton_of
 
 
 def chains_of(plan):
@@ -39,7 +39,7 @@ def quadruped():
 
 
 def test_a_person_gets_arms_legs_a_head_and_a_spine():
-    plan = bones.plan_bones(body(), bone_detail=1.0)
+    plan = limb_plan(body(), bone_detail=1.0)
     assert chains_of(plan) == {"spine": 1, "head": 1, "arm.L": 2, "arm.R": 2, "leg.L": 2,
                                "leg.R": 2}
     legs = [spec for spec in plan if spec.name.startswith("leg.")]
@@ -49,11 +49,11 @@ def test_a_person_gets_arms_legs_a_head_and_a_spine():
 def test_the_names_follow_the_ground_not_the_axes():
     # The same person Y-up (an OBJ's convention) and standing on its head along Y: up is found
     # where the feet stand, and the names do not change.
-    person = chains_of(bones.plan_bones(body(), bone_detail=1.0))
+    person = chains_of(limb_plan(body(), bone_detail=1.0))
     for matrix, up in (([[1, 0, 0], [0, 0, 1], [0, -1, 0]], [0, 1, 0]),
                        ([[1, 0, 0], [0, 0, -1], [0, 1, 0]], [0, -1, 0])):
         turned = rotated(body(), np.array(matrix, dtype=float))
-        assert chains_of(bones.plan_bones(turned, bone_detail=1.0)) == person
+        assert chains_of(limb_plan(turned, bone_detail=1.0)) == person
         feet_hands_head = [2, 4, 6, 8, 10]
         assert np.allclose(naming.up_axis(turned.positions, feet_hands_head,
                                           bones.plan_plane(turned)), up)
@@ -64,7 +64,7 @@ def test_any_orientation_gives_paired_names(seed):
     # A plane turned away from every axis (no candidate up lies in it): still named, .L / .R
     # pairing bone by bone.
     matrix = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))[0]
-    plan = bones.plan_bones(rotated(quadruped(), matrix), bone_detail=0.0)
+    plan = limb_plan(rotated(quadruped(), matrix), bone_detail=0.0)
     found = chains_of(plan)
     assert len(plan) == 7
     assert all(found[c] == found[c[:-1] + "R"] for c in found if c.endswith(".L"))
@@ -72,7 +72,7 @@ def test_any_orientation_gives_paired_names(seed):
 
 
 def test_a_quadruped_gets_front_and_hind_legs_a_head_and_a_tail():
-    plan = bones.plan_bones(quadruped(), bone_detail=0.0)
+    plan = limb_plan(quadruped(), bone_detail=0.0)
     by_node = {spec.node: spec.name for spec in plan}
     assert by_node[4] == "front_leg.001.L" and by_node[5] == "front_leg.001.R"  # by the head
     assert by_node[2] == "hind_leg.001.L" and by_node[3] == "hind_leg.001.R"
@@ -95,7 +95,7 @@ def test_fingers_fan_from_a_hand_and_the_arm_keeps_its_name():
     positions.append([0, 0, 1.2])
     links.append([0, len(positions) - 1])
     kinds = ["joint"] * 3 + ["end"] * (len(positions) - 3)
-    plan = bones.plan_bones(skeleton_of(positions, kinds, links, root=0), bone_detail=0.0)
+    plan = limb_plan(skeleton_of(positions, kinds, links, root=0), bone_detail=0.0)
     found = chains_of(plan)
     assert found["arm.L"] == found["arm.R"] == 1  # the arm up to the hand
     assert sum(found.get(f"finger{i}.L", 0) for i in (1, 2, 3)) == 3
@@ -105,7 +105,7 @@ def test_fingers_fan_from_a_hand_and_the_arm_keeps_its_name():
 def test_without_a_mirror_plane_tips_are_limbs():
     skewed = body(lean=0.9, arm_drop=1.5)
     assert bones.plan_plane(skewed) is None
-    names = chains_of(bones.plan_bones(skewed, bone_detail=0.0))
+    names = chains_of(limb_plan(skewed, bone_detail=0.0))
     assert set(names) == {"spine", "limb1", "limb2", "limb3", "limb4", "limb5"}
 
 
@@ -119,7 +119,7 @@ def test_without_a_mirror_plane_tips_are_limbs():
 ])
 def test_public_meshes_get_the_names_of_their_limbs(meshes_dir, name, chains):
     V, F = dcg.load_mesh(str(meshes_dir / name))
-    plan = bones.plan_bones(shared_skeleton(V, F, name))
+    plan = limb_plan(shared_skeleton(V, F, name))
     found = chains_of(plan)
     assert set(found) - {"spine"} == chains
     for chain in found:  # a pair's chains have as many bones, named alike

@@ -148,13 +148,25 @@ def test_bones_as_objects_skeleton_or_arrays_agree(monkeypatch):
         polylines=[np.array([[0, 0, -1.2], [0, 0, 0], [0, 0, 1.2]])])
     by_plan = skin_weights(V, F, dcg.bones.plan_bones(skeleton, bone_detail=1.0),
                            target_faces=0)
-    for other in (by_objects, by_plan):
-        assert np.allclose(other.dense(), by_arrays.dense())
+    assert np.allclose(by_objects.dense(), by_arrays.dense())
+    # The plan starts with its root bone, which deforms nothing: an empty first column, the
+    # chain's weights as the arrays give them after it.
+    assert by_plan.bone_count == 3 and not by_plan.dense()[:, 0].any()
+    assert np.allclose(by_plan.dense()[:, 1:], by_arrays.dense())
     # A skeleton gives the planner's bones at its default detail: here (2.5 bones per link,
-    # at most one per segment) the two segments, the chain.
+    # at most one per segment) the root and the two segments, the chain.
     by_skeleton = skin_weights(V, F, skeleton, target_faces=0)
-    assert by_skeleton.bone_count == len(dcg.bones.plan_bones(skeleton)) == 2
-    assert np.allclose(by_skeleton.dense(), by_arrays.dense())
+    assert by_skeleton.bone_count == len(dcg.bones.plan_bones(skeleton)) == 3
+    assert np.allclose(by_skeleton.dense(), by_plan.dense())
+    # Arrays with deform flags: the same; BoneHeat's dense solve leaves the column at zero.
+    arrays = dcg.bones.bone_arrays(dcg.bones.plan_bones(skeleton, bone_detail=1.0))
+    flagged = skin_weights(V, F, arrays["heads"], arrays["tails"], parents=arrays["parents"],
+                           deform=arrays["kinds"] != "root", target_faces=0)
+    assert np.allclose(flagged.dense(), by_plan.dense())
+    heat = dcg.BoneHeat(V, F).solve(dcg.bones.plan_bones(skeleton, bone_detail=1.0))
+    assert heat.shape == (len(V), 3) and not heat[:, 0].any() and heat[:, 1:].any()
+    with pytest.raises(ValueError, match="deforms"):
+        skin_weights(V, F, arrays["heads"], arrays["tails"], deform=[False] * 3)
 
 
 def test_prepared_mesh_is_reused_when_the_input_is_large():

@@ -1,0 +1,103 @@
+"""The plan's root bone (dcg.bones.add_root): a control on the floor under the body, parent of
+every other bone, weighting nothing."""
+
+import numpy as np
+import pytest
+
+import dcg
+from dcg import bones, humanoid
+from test_bones import body, limb_plan
+from test_humanoid import person
+
+
+def test_the_root_bone_stands_on_the_floor_under_the_body_and_parents_every_limb():
+    skeleton = body()  # radii 0.1, feet at z = -1.2, the hips (the root node) at the origin
+    plan = bones.plan_bones(skeleton, bone_detail=1.0)
+    root = plan[0]
+    assert (root.name, root.kind, root.parent, root.node, root.link) == (
+        bones.ROOT_NAME, "root", None, -1, -1)
+    # The floor under the lowest ball, under the middle of the balls' box: x from -1.3 to 1.3.
+    assert np.allclose(root.head, [0.0, 0.0, -1.3])
+    assert np.allclose(root.tail, skeleton.positions[skeleton.root])
+    # Every limb hangs from it, and the rest of the plan is the limbs' as they were.
+    limbs = limb_plan(skeleton, bone_detail=1.0)
+    assert [spec.name for spec in plan[1:]] == [spec.name for spec in limbs]
+    assert [spec.parent for spec in plan[1:]] == [
+        bones.ROOT_NAME if spec.parent is None else spec.parent for spec in limbs]
+    assert not any(spec.use_connect for spec in plan if spec.parent == bones.ROOT_NAME)
+    # A middle bone: its Z axis normal to it and in the mirror plane (x = 0), so it mirrors
+    # onto itself.
+    assert abs(root.z_axis @ (root.tail - root.head)) < 1e-9
+    assert abs(root.z_axis[0]) < 1e-9 and np.isclose(np.linalg.norm(root.z_axis), 1.0)
+
+
+def test_the_floor_lies_across_the_up_direction_given():
+    skeleton = body()  # flat: every node at y = 0
+    root = bones.plan_bones(skeleton, up=(0.0, 1.0, 0.0))[0]
+    assert np.allclose(root.head, [0.0, -0.1, 0.2])  # under the middle of the balls' box
+    assert bones.plan_bones(skeleton, root_bone=False)[0].kind != "root"
+    # A body lying on its side (up along the mirror plane's normal) keeps its root bone in
+    # the plane, a bone of the middle, rather than beside one half.
+    root = bones.plan_bones(skeleton, up=(1.0, 0.0, 0.0))[0]
+    assert np.allclose(root.head, [0.0, 0.0, 0.2])
+
+
+def test_an_asymmetric_body_gets_its_root_onto_the_mirror_plane():
+    skeleton = body(lean=0.05, arm_drop=0.05)  # the plane stays x = 0 (the limbs' fit)
+    root = bones.plan_bones(skeleton)[0]
+    plane = bones.plan_plane(skeleton)
+    assert plane is not None and abs(plane.signed(root.head)) < 1e-9
+    assert np.isclose(root.head[2], -1.3)
+
+
+def test_a_mixamo_plan_hangs_its_hips_from_the_root_bone():
+    plan = bones.plan_bones(person(), names="mixamo")
+    assert humanoid.is_mixamo(plan)
+    assert plan[0].name == bones.ROOT_NAME and plan[1].name == "Hips"
+    assert plan[1].parent == bones.ROOT_NAME
+    assert [spec.name for spec in plan if spec.parent is None] == [bones.ROOT_NAME]
+
+
+def test_a_real_characters_root_bone_is_at_its_feet(meshes_dir):
+    V, F = dcg.load_mesh(str(meshes_dir / "rigged" / "Q_Knight.obj"))  # Z up, feet at z = 0
+    V = np.asarray(V)
+    skeleton = dcg.extract_skeleton(V, F)
+    plan = bones.plan_bones(skeleton)
+    root = plan[0]
+    height = float(np.ptp(V[:, 2]))
+    assert abs(root.head[2] - V[:, 2].min()) < 0.02 * height
+    middle = (V.min(axis=0) + V.max(axis=0)) / 2
+    assert np.linalg.norm(root.head[:2] - middle[:2]) < 0.02 * height
+    assert root.tail[2] > root.head[2] + 0.3 * height  # up to the hips
+    weights = dcg.skin_weights(V, F, plan)
+    dense = weights.dense()
+    assert weights.bone_count == len(plan) and not dense[:, 0].any()
+    assert np.allclose(dense.sum(axis=1), 1.0)
+
+
+def test_the_root_bone_options_of_the_batch_and_the_addon_cli():
+    from dcg import batch_blender, batch_jobs
+
+    assert batch_jobs.file_up("a/b.OBJ") == (0.0, 1.0, 0.0)
+    assert batch_jobs.file_up("a/b.ply") == batch_jobs.file_up("b.glb") == (0.0, 0.0, 1.0)
+    assert "--root-bone" in batch_blender.cli_flags({}, 0.5)
+    assert "--no-root-bone" in batch_blender.cli_flags({}, 0.5, root_bone=False)
+
+
+@pytest.mark.parametrize("root_bone", [True, False])
+def test_the_npz_of_a_batch_has_the_root_bone_it_was_asked_for(repo, root_bone):
+    import io
+
+    from dcg import batch_worker
+
+    V, F = dcg.load_mesh(str(repo / "data" / "spot.obj"))
+    skeleton = dcg.extract_skeleton(V, F)
+    data, status = batch_worker.weights_npz(V, F, skeleton, root_bone=root_bone,
+                                            up=(0.0, 1.0, 0.0))  # spot.obj is Y up
+    assert status == "ok"
+    with np.load(io.BytesIO(data)) as npz:
+        kinds = list(npz["bone_kinds"])
+        assert (kinds[0] == "root") == root_bone and kinds.count("root") == int(root_bone)
+        if root_bone:
+            floor = float(np.asarray(V)[:, 1].min())
+            assert abs(npz["bone_heads"][0][1] - floor) < 0.02 * float(np.ptp(V, axis=0).max())
