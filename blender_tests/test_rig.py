@@ -52,6 +52,7 @@ def test_rig_spot_gives_a_bound_armature_inside_the_mesh(spot, weights):
     # One root bone, the parent of the rest, deforming nothing: no vertex follows it alone.
     (root,) = [b for b in bones if b["dcg_kind"] == "root"]
     assert root.parent is None and not root.use_deform
+    assert getattr(root, "display_type", "WIRE") == "WIRE"  # a thin line (Blender 4.1+)
     assert all(b.parent is not None for b in bones if b != root)
     group = spot.vertex_groups.get(root.name)
     assert group is None or not any(g.group == group.index and g.weight > 0

@@ -81,6 +81,8 @@ def build_armature(context, mesh_obj, plan, collection=None, name=None):
         bone["dcg_link"] = spec.link
         bone["dcg_radii"] = (float(spec.head_radius), float(spec.tail_radius))
         bone.use_deform = spec.kind != "root"
+        if spec.kind == "root" and hasattr(bone, "display_type"):  # Blender 4.1+
+            bone.display_type = "WIRE"  # a thin line under the body, not a fat octahedron
     _color_bones(arm_obj, plan)
     return arm_obj
 

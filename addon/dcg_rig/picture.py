@@ -51,6 +51,7 @@ def _bone_objects(scene, arm_obj, size):
     heads, tails = armature.bone_world_segments(arm_obj)
     kinds = np.array([b.get("dcg_kind", "connection") for b in arm_obj.data.bones])
     widths = np.maximum(0.15 * np.linalg.norm(tails - heads, axis=1), 0.004 * size)
+    widths[kinds == "root"] = 0.006 * size  # drawn thin, as the viewport's wire (4.1+)
     made = []
     for kind, colors in armature.KIND_COLORS.items():
         chosen = kinds == kind

@@ -101,3 +101,16 @@ def test_the_npz_of_a_batch_has_the_root_bone_it_was_asked_for(repo, root_bone):
         if root_bone:
             floor = float(np.asarray(V)[:, 1].min())
             assert abs(npz["bone_heads"][0][1] - floor) < 0.02 * float(np.ptp(V, axis=0).max())
+
+
+def test_the_addon_defaults_are_the_planners():
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
+    try:
+        from dcg_rig import options
+    finally:
+        sys.path.pop(0)
+    assert options.ADDON_DEFAULTS["root_bone"] is bones.ROOT_BONE
+    assert options.ADDON_DEFAULTS["bone_detail"] == bones.BONE_DETAIL
