@@ -25,6 +25,8 @@ Bone kinds: a bone whose tail is a skeleton node takes that node's kind ("end", 
 have two neighbours, like connection nodes); `link` is the link of the bone's last
 segment. Names are the limb's (`dcg.naming`: ``spine``, ``head``, ``tail``, ``arm``,
 ``front_leg``, ...) plus a counter per name from the root outward: ``spine.001``, ``head.002``.
+With `root_bone` (the default) the plan starts with ``root``, of kind "root": a control on
+the floor under the body that every chain hangs from and that deforms nothing (`add_root`).
 
 Symmetry (`dcg.symmetry`): when the skeleton has a mirror plane through its root, the limbs
 on either side that mirror each other (and end at nodes of one kind; on a surface that mirrors
@@ -99,7 +101,7 @@ class BoneSpec:
     tail: np.ndarray           #: 3 tail position
     parent: str | None         #: parent bone name, None for bones at the root
     use_connect: bool          #: head attached to the parent's tail
-    kind: str                  #: "end", "joint" or "connection"
+    kind: str                  #: "end", "joint", "connection" or "root" (deforms nothing)
     node: int                  #: skeleton node at the tail, -1 for an inner polyline point
     link: int                  #: skeleton link of the bone's last segment (root bone: -1)
     head_radius: float         #: skeleton radius at the head (distance to the surface)
@@ -770,9 +772,9 @@ def _tail(head, tip, radius):
 def bone_arrays(plan):
     """The plan as arrays, in plan order: names (#B str), heads and tails (#B by 3 float64),
     parents (#B int64 index into the plan, -1 at a root), links (#B int64, the skeleton link of
-    each bone, -1 for the root bone), kinds (#B str), z_axes (#B by 3 float64, each bone's unit local Z axis) and
-    rolls (#B float64, Blender's roll in radians for that axis, in the skeleton's
-    coordinates)."""
+    each bone, -1 for the root bone), kinds (#B str), z_axes (#B by 3 float64, each bone's
+    unit local Z axis) and rolls (#B float64, Blender's roll in radians for that axis, in the
+    skeleton's coordinates)."""
     index = {spec.name: i for i, spec in enumerate(plan)}
     return {
         "names": np.array([spec.name for spec in plan], dtype=str),
