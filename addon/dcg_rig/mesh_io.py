@@ -58,8 +58,8 @@ def mesh_from_arrays(name, V, F):
 
 
 def empty_groups(obj, names):
-    """Give `obj` an empty vertex group per name (replacing same-named groups)."""
-    for name in names:
+    """Give `obj` an empty vertex group per name (replacing same-named groups; None: none)."""
+    for name in filter(None, names):
         group = obj.vertex_groups.get(name)
         if group is not None:
             obj.vertex_groups.remove(group)
@@ -68,9 +68,9 @@ def empty_groups(obj, names):
 
 def read_groups(obj, names):
     """Return the sparse weights (rows, cols, values) of the vertex groups named `names`
-    (column i is names[i]; missing groups give no entries)."""
+    (column i is names[i]; missing groups, or None, give no entries)."""
     column = {obj.vertex_groups[n].index: i for i, n in enumerate(names)
-              if n in obj.vertex_groups}
+              if n is not None and n in obj.vertex_groups}
     rows, cols, values = [], [], []
     for vertex in obj.data.vertices:
         for element in vertex.groups:
@@ -84,12 +84,13 @@ def read_groups(obj, names):
 
 
 def write_groups(obj, names, rows, cols, values):
-    """Replace the vertex groups `names` of `obj` by the sparse weights (rows, cols, values).
+    """Replace the vertex groups `names` of `obj` by the sparse weights (rows, cols, values);
+    a column whose name is None gets no group (ValueError if it holds a weight).
 
     Entries that share a group and a weight go in one call (full weights of 1, common
     far from the joints, batch well)."""
     empty_groups(obj, names)
-    groups = [obj.vertex_groups[n] for n in names]
+    groups = [None if n is None else obj.vertex_groups[n] for n in names]
     rows, cols, values = (np.asarray(a) for a in (rows, cols, values))
     if not len(rows):
         return
@@ -99,4 +100,7 @@ def write_groups(obj, names, rows, cols, values):
     starts = np.flatnonzero(np.r_[True, (np.diff(keys, axis=1) != 0).any(axis=0)])
     ends = np.r_[starts[1:], len(rows)]
     for start, end in zip(starts.tolist(), ends.tolist()):
-        groups[int(cols[start])].add(rows[start:end].tolist(), float(values[start]), "REPLACE")
+        group = groups[int(cols[start])]
+        if group is None:
+            raise ValueError(f"bone {int(cols[start])} deforms nothing but has weights")
+        group.add(rows[start:end].tolist(), float(values[start]), "REPLACE")

@@ -27,6 +27,12 @@ from . import _engine, armature, mesh_io, skinning
 RETRY_SCALE = 100.0
 
 
+def group_names(plan):
+    """The vertex group of each bone of `plan` (column order): its name, None for the root
+    bone, which deforms nothing and gets no group (as Blender's own binding does)."""
+    return [None if spec.kind == "root" else spec.name for spec in plan]
+
+
 def apply_weights(context, mesh_obj, arm_obj, plan, method, prepared=None,
                   engine_options=None):
     """Bind `mesh_obj` to `arm_obj` with `method`; return a list of warnings for the user.
@@ -36,7 +42,7 @@ def apply_weights(context, mesh_obj, arm_obj, plan, method, prepared=None,
     their own stage 0. `engine_options`: the engine's keyword arguments (dcg.OPTIONS names,
     the skeleton's included); DCG weights use theirs (max_influences, heat, ...)."""
     warnings = []
-    names = [spec.name for spec in plan]
+    names = group_names(plan)
     if method == "DCG":
         warnings += _dcg_weights(mesh_obj, plan, prepared, engine_options)
     elif method == "BLENDER":
@@ -61,7 +67,7 @@ def mesh_triangles(mesh):
 def _dcg_weights(mesh_obj, plan, prepared=None, engine_options=None):
     """The engine's bone heat weights written to the vertex groups; envelope weights (with a
     warning) when the engine cannot weight this mesh. Return the warnings."""
-    names = [spec.name for spec in plan]
+    names = group_names(plan)
     engine = _engine.require()
     skin_weights = getattr(engine, "skin_weights", None)
     V = mesh_io.world_vertices(mesh_obj)
@@ -107,7 +113,7 @@ def _envelope(mesh_obj, plan, vertices):
 
 def _bone_heat_checked(context, mesh_obj, arm_obj, plan):
     """Automatic Weights, checked, retried at scale 100, completed by envelope weights."""
-    names = [spec.name for spec in plan]
+    names = group_names(plan)
     count = len(mesh_obj.data.vertices)
     warnings = []
     _bone_heat(context, mesh_obj, arm_obj)
