@@ -76,7 +76,8 @@ def _parser(engine_specs, addon_options):
     parser.add_argument("--off", help="write the imported mesh (joined, world space, "
                                       "triangulated) as OFF; alone, nothing is rigged")
     parser.add_argument("--png", help="render a picture of the rig (mesh in x-ray, bones "
-                                      "colored by kind: end red, joint purple, connection blue, root yellow)")
+                                      "colored by kind: end red, joint purple, connection "
+                                      "blue, root yellow)")
     parser.add_argument("--up", choices=("auto", "y", "z"), default="auto",
                         help="the file's up axis (auto: y for OBJ, z for OFF/PLY/STL; "
                              "FBX and glTF carry their own)")

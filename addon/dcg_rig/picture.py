@@ -1,10 +1,10 @@
 """A picture of a rig, rendered headlessly: the mesh, with the bones drawn in front.
 
 Armatures do not render, so the bones are stood in for by octahedral meshes colored by kind
-(end red, joint purple, connection blue, the root yellow, as in the viewport). Two Workbench renders (it
-works without a GPU) are composited with numpy: the mesh alone, then the bones alone on a
-transparent film, laid over the mesh like Blender's "In Front" display. Everything made for
-the picture is removed afterwards and the scene's render settings are restored.
+(end red, joint purple, connection blue, the root yellow, as in the viewport). Two Workbench
+renders (it works without a GPU) are composited with numpy: the mesh alone, then the bones
+alone on a transparent film, laid over the mesh like Blender's "In Front" display. Everything
+made for the picture is removed afterwards and the scene's render settings are restored.
 """
 
 import os

@@ -104,11 +104,11 @@ def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS[
     """Rig `mesh_obj` from `skeleton` (world coordinates); return a RigResult.
 
     The bones are `plan` when given (world space: the edited preview skeleton), else the
-    planner's (`plan_bones` at `bone_detail` with `bone_names` and `root_bone`). Transactional: the mesh's
-    earlier DCG rigs are detached (not deleted) while the new rig is built and bound. On
-    success they are deleted along with the preview; on failure the new armature is deleted
-    and the earlier binding (vertex groups, modifiers, parent) is restored, then the
-    exception propagates.
+    planner's (`plan_bones` at `bone_detail` with `bone_names` and `root_bone`).
+    Transactional: the mesh's earlier DCG rigs are detached (not deleted) while the new rig is
+    built and bound. On success they are deleted along with the preview; on failure the new
+    armature is deleted and the earlier binding (vertex groups, modifiers, parent) is
+    restored, then the exception propagates.
     """
     warnings = []
     if plan is None:
