@@ -12,7 +12,8 @@ our paired bones (`.L` / `.R`) are from mirroring each other across the plan's m
 (dcg.metrics.mirror_error, same unit; dcg.bones.plan_plane), the bone counts and the engine's
 method. A second set of CD columns ("inside") leaves out the artist's joints outside the mesh
 (winding number, scripts/mesh_parts.py: a root on the floor, a hub above the body, IK targets),
-each kept joint's parent its nearest kept ancestor (dcg.metrics.kept_joints): how much of the
+each kept joint's parent its nearest kept ancestor (dcg.metrics.kept_joints), and our root bone
+on the floor: how much of the
 distance is joints no skeleton inside the shape can reach (a diagnostic; issue 17's targets are
 on the plain columns). A second table sets each CD beside the character's before issue 17's
 bone planner (scripts/rig_quality_before.json: measured at that commit, the command in the
@@ -77,7 +78,8 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
     row.update(metrics.j2j_parts(V, plan["heads"], plan["tails"], rig.joints, rig.parents))
     inside = mesh_parts.inside_any_part(rig.joints, V, F)
     joints, parents = metrics.kept_joints(rig.joints, rig.parents, inside)
-    kept = metrics.skeleton_metrics(V, plan["heads"], plan["tails"], joints, parents)
+    ours = plan["kinds"] != "root"  # our root bone on the floor is left out likewise
+    kept = metrics.skeleton_metrics(V, plan["heads"][ours], plan["tails"][ours], joints, parents)
     row.update({"inside_" + key: value for key, value in kept.items()})
     row["outside"] = int((~inside).sum())
     plane = bones.plan_plane(skeleton)
@@ -166,7 +168,8 @@ def main():
               "'their bones': one per joint (the weights protocol). The 'inside' CD columns "
               "leave out the artist's joints outside the mesh ('their joints outside': a root "
               "on the floor, a hub above the body, IK targets; winding number), each kept "
-              "joint's parent its nearest kept ancestor: a diagnostic of how much of the "
+              "joint's parent its nearest kept ancestor, and our root bone on the floor: a "
+              "diagnostic of how much of the "
               "distance no skeleton inside the shape can remove (the targets are on the first "
               "three columns). CD-J2J is the mean of its two directions: 'J2J ours->theirs' "
               "(our joints to the artist's nearest) and 'J2J theirs->ours'; 'of it unrigged' is "
