@@ -75,16 +75,18 @@ void bind_bone_heat(py::module_& m) {
       .def(
           "solve",
           [](const H& heat, const dcg::Points& heads, const dcg::Points& tails,
-             const py::dict& options, py::object progress, const py::object& parents) {
+             const py::dict& options, py::object progress, const py::object& parents,
+             const py::object& deform) {
             const dcg::WeightsOptions o = options_from_dict(options).weights;
-            const dcg::Bones bones = make_bones(heads, tails, parents);
+            const dcg::Bones bones = make_bones(heads, tails, parents, deform);
             ProgressBridge bridge(std::move(progress));
             return run_released(bridge, [&] {
               return heat.solve(bones, o, nullptr, dcg::Progress(bridge.callback()));
             });
           },
           py::arg("heads"), py::arg("tails"), py::arg("options"), py::arg("progress") = py::none(),
-          py::arg("parents") = py::none(), "#V x #B weights of the mesh's vertices.")
+          py::arg("parents") = py::none(), py::arg("deform") = py::none(),
+          "#V x #B weights of the mesh's vertices.")
       .def(
           "nearest_visible_bones",
           [](const H& heat, const dcg::Points& heads, const dcg::Points& tails) {

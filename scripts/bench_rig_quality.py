@@ -78,7 +78,7 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
     row.update(metrics.j2j_parts(V, plan["heads"], plan["tails"], rig.joints, rig.parents))
     inside = mesh_parts.inside_any_part(rig.joints, V, F)
     joints, parents = metrics.kept_joints(rig.joints, rig.parents, inside)
-    ours = plan["kinds"] != "root"  # our root bone on the floor is left out likewise
+    ours = bones.deforms(plan["kinds"])  # our root bone on the floor is left out likewise
     kept = metrics.skeleton_metrics(V, plan["heads"][ours], plan["tails"][ours], joints, parents)
     row.update({"inside_" + key: value for key, value in kept.items()})
     row["outside"] = int((~inside).sum())

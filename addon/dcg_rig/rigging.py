@@ -84,7 +84,7 @@ def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAUL
     did not pair (dcg.bones.unpaired_limbs)."""
     engine = _engine.require()
     plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower(),
-                                   root_bone=bool(root_bone), up=(0.0, 0.0, 1.0))
+                                   root_bone=bool(root_bone))  # up: Blender's +Z, the default
     warnings = []
     if bone_names == "MIXAMO" and not engine.humanoid.is_mixamo(plan):
         warnings.append("the skeleton is not humanoid (one head, two arms, two legs, upright "

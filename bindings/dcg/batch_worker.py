@@ -15,7 +15,7 @@ import numpy as np
 
 from .batch_blender import read_with_blender, rig_with_blender
 from .batch_jobs import BLENDER_FORMATS, BatchError, Job, file_up
-from .bones import BONE_DETAIL, BONE_NAMES, ROOT_BONE, UP, bone_arrays, plan_bones
+from .bones import BONE_DETAIL, BONE_NAMES, ROOT_BONE, UP, bone_arrays, deforms, plan_bones
 
 
 class _Deadline:
@@ -61,7 +61,7 @@ def weights_npz(V, F, skeleton, prepared=None, progress=None,
         status = "unavailable: the skeleton has no bones"
     else:
         result = skin_weights(V, F, bones["heads"], bones["tails"], parents=bones["parents"],
-                              deform=bones["kinds"] != "root", prepared=prepared,
+                              deform=deforms(bones["kinds"]), prepared=prepared,
                               progress=progress, **(options or {}))
         W = np.asarray(result.dense(), dtype=np.float32)
         status = "ok"

@@ -309,18 +309,21 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
     (`add_root`).
     """
     check_bone_names(names)
-    plan = None
+    plan = plane = None
     if names == "mixamo":
         from . import humanoid  # it plans with this function
 
         plan = humanoid.mixamo_plan(skeleton)
     if plan is None:
-        plan = _limb_plan(skeleton, bone_detail, limb_fractions)
-    return add_root(plan, skeleton, up) if root_bone else plan
+        plan, plane = _limb_plan(skeleton, bone_detail, limb_fractions)
+    elif root_bone:
+        plane = plan_plane(skeleton)
+    return add_root(plan, skeleton, plane, up) if root_bone else plan
 
 
 def _limb_plan(skeleton, bone_detail, limb_fractions):
-    """plan_bones' chains of bones, one per limb, without a root bone ("dcg" names)."""
+    """(plan_bones' chains of bones, one per limb, without a root bone ("dcg" names), the
+    plane they mirror across: plan_plane's)."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     extent = np.ptp(positions, axis=0) if len(positions) else np.zeros(3)
     min_length = 1e-6 * max(float(np.linalg.norm(extent)), 1e-12)
@@ -340,16 +343,16 @@ def _limb_plan(skeleton, bone_detail, limb_fractions):
     if plane is not None:
         symmetrize(plane, skeleton, chains, sides, joints, polylines)
     frame = _references(plane, positions, sides, joints)
-    return _chain_bones(skeleton, chains, sides, plane, joints, frame)
+    return _chain_bones(skeleton, chains, sides, plane, joints, frame), plane
 
 
-def add_root(plan, skeleton, up=UP):
+def add_root(plan, skeleton, plane=None, up=UP):
     """`plan` (BoneSpecs, parents first) headed by a root bone (kind "root", named ROOT_NAME,
     no vertex weights) that every bone without a parent gets as its parent (not connected).
     Its head lies on the floor across `up` (the lowest point of the skeleton's balls, each
     node's position less its radius) under the centre of the balls' bounding box, where a
-    standing character's origin is (moved onto the mirror plane along its normal when there is
-    one); its tail at the first bone's head (the skeleton's root, the pelvis of a humanoid), so
+    standing character's origin is (moved onto `plane`, the plan's mirror plane, along its
+    normal when there is one); its tail at the first bone's head (the skeleton's root, the pelvis of a humanoid), so
     that it stands upright under the body."""
     if not plan:
         return plan
@@ -360,7 +363,6 @@ def add_root(plan, skeleton, up=UP):
     low, high = (positions - radii[:, None]).min(axis=0), (positions + radii[:, None]).max(axis=0)
     centre = (low + high) / 2.0
     head = centre - (centre @ up - float(np.min(positions @ up - radii))) * up
-    plane = plan_plane(skeleton)
     if plane is not None:  # a bone of the middle (along the floor when the plane stands on it)
         head = plane.project(head)
     tail = np.array(plan[0].head, dtype=float)
@@ -375,6 +377,12 @@ def add_root(plan, skeleton, up=UP):
     children = [replace(spec, parent=ROOT_NAME) if spec.parent is None else spec
                 for spec in plan]
     return [root] + children
+
+
+def deforms(kinds) -> np.ndarray:
+    """#B booleans: which bones of these kinds (a plan's, bone_arrays' "kinds") weight
+    vertices; the root bone does not."""
+    return np.asarray(kinds, dtype=str) != "root"
 
 
 def check_bone_names(names):

@@ -29,7 +29,7 @@ from typing import Callable, Optional, Tuple
 import numpy as np
 
 from . import _core
-from .bones import bone_arrays, plan_bones
+from .bones import bone_arrays, deforms, plan_bones
 from .options import normalize_options
 
 #: Per-vertex bone weights as sparse triplets (rows, cols: int64; values: float64), sorted by
@@ -59,7 +59,7 @@ def _bones(bones, tails, parents=None, deform=None):
     elif hasattr(bones, "polylines") and hasattr(bones, "links"):
         plan = bone_arrays(plan_bones(bones))
         heads, tails, parents = plan["heads"], plan["tails"], plan["parents"]
-        deform = plan["kinds"] != "root"
+        deform = deforms(plan["kinds"])
     else:
         try:
             items = list(bones)
@@ -72,8 +72,8 @@ def _bones(bones, tails, parents=None, deform=None):
             if parents is None and all(hasattr(b, "parent") and hasattr(b, "name") for b in items):
                 index = {b.name: i for i, b in enumerate(items)}
                 parents = [index.get(b.parent, -1) for b in items]  # None or unknown: a root
-            if deform is None and any(getattr(b, "kind", None) == "root" for b in items):
-                deform = [getattr(b, "kind", None) != "root" for b in items]
+            if deform is None and all(hasattr(b, "kind") for b in items):
+                deform = deforms([b.kind for b in items])
         else:
             raise ValueError("bones must be a Skeleton, a non-empty list of bones with .head "
                              "and .tail, or heads with tails")
@@ -92,22 +92,7 @@ def _bones(bones, tails, parents=None, deform=None):
         if len(deform) != len(heads) or deform.dtype != bool:
             raise ValueError(f"deform must be {len(heads)} booleans, got {deform.dtype} x "
                              f"{len(deform)}")
-        if not deform.any():
-            raise ValueError("weights need at least one bone that deforms")
     return heads, tails, parents, deform
-
-
-def _kept_parents(parents, deform) -> np.ndarray:
-    """The parent of each deforming bone among the deforming bones alone (numbered in order):
-    its nearest deforming ancestor, -1 when none."""
-    position = np.cumsum(deform) - 1
-    kept = []
-    for bone in np.flatnonzero(deform):
-        parent = parents[bone]
-        while parent >= 0 and not deform[parent]:
-            parent = parents[parent]
-        kept.append(position[parent] if parent >= 0 else -1)
-    return np.array(kept, dtype=np.int64)
 
 
 def skin_weights(V, F, bones, tails=None, *, parents=None, deform=None, prepared=None,
@@ -188,12 +173,4 @@ class BoneHeat(_core.BoneHeat):
         while it works; progress(stage, fraction) returning False raises dcg.Cancelled.
         """
         heads, tails, parents, deform = _bones(bones, tails, parents, deform)
-        if deform is None or deform.all():
-            return super().solve(heads, tails, normalize_options(options), progress, parents)
-        kept = np.flatnonzero(deform)
-        if parents is not None:
-            parents = _kept_parents(parents, deform)
-        W = np.zeros((len(self.areas), len(heads)))
-        W[:, kept] = super().solve(heads[kept], tails[kept], normalize_options(options),
-                                   progress, parents)
-        return W
+        return super().solve(heads, tails, normalize_options(options), progress, parents, deform)

@@ -239,6 +239,39 @@ std::vector<char> bones_within_reach(const Eigen::VectorXi& parents, int reach) 
   return near;
 }
 
+// Whether every bone of `bones` deforms (Bones::deform empty or all set).
+bool every_bone_deforms(const Bones& bones) {
+  return std::all_of(bones.deform.begin(), bones.deform.end(), [](char d) { return d != 0; });
+}
+
+// The bones of `bones` that deform (Bones::deform) and, per kept bone, its index in `bones`; a
+// kept bone's parent is its nearest kept ancestor (-1: none).
+Bones deforming_bones(const Bones& bones, std::vector<int>& index) {
+  const Eigen::VectorXi parents = bone_parents(bones);
+  std::vector<int> kept_as(bones.count(), -1);
+  index.clear();
+  for (Eigen::Index b = 0; b < bones.count(); ++b) {
+    if (bones.deform[b]) {
+      kept_as[b] = static_cast<int>(index.size());
+      index.push_back(static_cast<int>(b));
+    }
+  }
+  if (index.empty()) throw InputError("weights need at least one bone that deforms");
+  Bones kept;
+  const auto count = static_cast<Eigen::Index>(index.size());
+  kept.heads.resize(count, 3);
+  kept.tails.resize(count, 3);
+  kept.parents = Eigen::VectorXi::Constant(count, -1);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    kept.heads.row(k) = bones.heads.row(index[k]);
+    kept.tails.row(k) = bones.tails.row(index[k]);
+    int p = parents[index[k]];
+    while (p >= 0 && kept_as[p] < 0) p = parents[p];
+    if (p >= 0) kept.parents[k] = kept_as[p];
+  }
+  return kept;
+}
+
 }  // namespace
 
 double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -746,6 +779,14 @@ Eigen::MatrixXd BoneHeat::solve(const Bones& bones, const WeightsOptions& option
                                 const Progress& progress, double from, double to) const {
   options.validate();
   check_bones(bones);
+  if (!every_bone_deforms(bones)) {  // solved for the deforming bones, a zero column elsewhere
+    std::vector<int> index;
+    const Eigen::MatrixXd kept =
+        solve(deforming_bones(bones, index), options, report, progress, from, to);
+    Eigen::MatrixXd W = Eigen::MatrixXd::Zero(kept.rows(), bones.count());
+    for (std::size_t k = 0; k < index.size(); ++k) W.col(index[k]) = kept.col(k);
+    return W;
+  }
   const Impl& m = *impl_;
   const int nv = static_cast<int>(m.V.rows());
   const int nb = static_cast<int>(bones.count());
@@ -977,43 +1018,14 @@ SkinWeights deforming_weights(const PreparedMesh& prepared, const Bones& bones,
   return out;
 }
 
-// The bones of `bones` that deform (Bones::deform) and, per kept bone, its index in `bones`; a
-// kept bone's parent is its nearest kept ancestor (-1: none).
-Bones deforming_bones(const Bones& bones, std::vector<int>& index) {
-  const Eigen::VectorXi parents = bone_parents(bones);
-  std::vector<int> kept_as(bones.count(), -1);
-  index.clear();
-  for (Eigen::Index b = 0; b < bones.count(); ++b) {
-    if (bones.deform[b]) {
-      kept_as[b] = static_cast<int>(index.size());
-      index.push_back(static_cast<int>(b));
-    }
-  }
-  if (index.empty()) throw InputError("weights need at least one bone that deforms");
-  Bones kept;
-  const auto count = static_cast<Eigen::Index>(index.size());
-  kept.heads.resize(count, 3);
-  kept.tails.resize(count, 3);
-  kept.parents = Eigen::VectorXi::Constant(count, -1);
-  for (Eigen::Index k = 0; k < count; ++k) {
-    kept.heads.row(k) = bones.heads.row(index[k]);
-    kept.tails.row(k) = bones.tails.row(index[k]);
-    int p = parents[index[k]];
-    while (p >= 0 && kept_as[p] < 0) p = parents[p];
-    if (p >= 0) kept.parents[k] = kept_as[p];
-  }
-  return kept;
-}
-
 // deforming_weights of the bones that deform, numbered as in `bones` (a control has none).
 SkinWeights skin_weights(const PreparedMesh& prepared, const Bones& bones,
                          const WeightsOptions& options, const Progress& progress, double from,
                          double to) {
   options.validate();
   check_bones(bones);
-  if (std::all_of(bones.deform.begin(), bones.deform.end(), [](char d) { return d != 0; })) {
+  if (every_bone_deforms(bones))
     return deforming_weights(prepared, bones, options, progress, from, to);
-  }
   std::vector<int> index;
   SkinWeights out =
       deforming_weights(prepared, deforming_bones(bones, index), options, progress, from, to);

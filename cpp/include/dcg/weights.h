@@ -97,9 +97,9 @@ struct Bones {
   /// tail is at its head (within 1e-9 of the bones' extent), else none.
   Eigen::VectorXi parents;
   /// #B 0 for a bone that takes no weight (a control: the root on the floor), else 1; empty:
-  /// every bone deforms. compute_skin_weights solves for the deforming bones alone (a control's
-  /// parent role passes to its nearest deforming ancestor) and keeps the bones' numbering;
-  /// BoneHeat::solve weights every bone it is given.
+  /// every bone deforms. compute_skin_weights and BoneHeat::solve solve for the deforming bones
+  /// alone (a control's parent role passes to its nearest deforming ancestor) and keep the
+  /// bones' numbering (a control's column is empty).
   std::vector<char> deform;
   Eigen::Index count() const { return heads.rows(); }
 };
