@@ -317,7 +317,7 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
     if plan is None:
         plan, plane = _limb_plan(skeleton, bone_detail, limb_fractions)
     elif root_bone:
-        plane = plan_plane(skeleton)
+        plane = humanoid.plan_plane(skeleton)  # what the Mixamo plan's pairs mirror across
     return add_root(plan, skeleton, plane, up) if root_bone else plan
 
 

@@ -114,3 +114,13 @@ def test_the_addon_defaults_are_the_planners():
         sys.path.pop(0)
     assert options.ADDON_DEFAULTS["root_bone"] is bones.ROOT_BONE
     assert options.ADDON_DEFAULTS["bone_detail"] == bones.BONE_DETAIL
+
+
+def test_a_mixamo_plans_root_bone_lies_on_the_plane_its_pairs_mirror_across(meshes_dir):
+    V, F = dcg.load_mesh(str(meshes_dir / "knight.off"))  # its two planes 3 degrees apart
+    skeleton = dcg.extract_skeleton(V, F)
+    plan = bones.plan_bones(skeleton, names="mixamo")
+    assert humanoid.is_mixamo(plan)
+    plane = humanoid.plan_plane(skeleton)
+    size = float(np.ptp(np.asarray(V), axis=0).max())
+    assert abs(plane.signed(plan[0].head)) < 1e-9 * size
