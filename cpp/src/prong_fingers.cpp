@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -79,10 +78,12 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
                                                  const std::vector<const Peak*>& kept) const {
   constexpr std::size_t kMaxCandidates = 256;  // the strongest; a scan's noise adds thousands
   const int n = static_cast<int>(f_.size());
-  std::unordered_map<int, const Peak*> by_vertex;
-  for (const Peak& p : peaks_) by_vertex[p.vertex] = &p;
   std::unordered_set<int> prong_vertices;
-  for (const Peak* p : kept) prong_vertices.insert(p->vertex);
+  std::vector<int> prong_list;
+  for (const Peak* p : kept) {
+    prong_vertices.insert(p->vertex);
+    prong_list.push_back(p->vertex);
+  }
 
   std::vector<Protrusion> found;
   std::vector<int> mark(n, -1), region;
@@ -95,12 +96,7 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
     const int stamp = static_cast<int>(found.size());
     if (fill_region(f_, adjacency_start_, adjacency_, q, cap, mark, stamp, region))
       measure(mesh_.V, adjacency_start_, adjacency_, mark, stamp, region, t);
-    t.hand = q.partner;
-    for (std::size_t steps = 0; steps < peaks_.size() && !prong_vertices.count(t.hand); ++steps) {
-      const auto next = by_vertex.find(t.hand);
-      if (next == by_vertex.end() || next->second->partner < 0) break;
-      t.hand = next->second->partner;
-    }
+    t.hand = region_prong(q, prong_list);
     found.push_back(t);
   }
 

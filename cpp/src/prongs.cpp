@@ -431,6 +431,7 @@ ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f, const
   });
   // The global maximum of the whole mesh: the peak first in the order.
   for (int i = 0; i < static_cast<int>(peaks_.size()); ++i) {
+    peak_at_[peaks_[i].vertex] = i;
     if (peaks_[i].global &&
         (global_ < 0 || rank[peaks_[i].vertex] < rank[peaks_[global_].vertex])) {
       global_ = i;
@@ -528,6 +529,19 @@ bool ProngHierarchy::is_mirror_twin(const Peak& twin, const Peak& partner) const
   return mirrors_mesh(twin.vertex, partner.vertex);
 }
 
+int ProngHierarchy::region_prong(const Peak& q, const std::vector<int>& prong_vertices) const {
+  const auto is_prong = [&](int v) {
+    return std::find(prong_vertices.begin(), prong_vertices.end(), v) != prong_vertices.end();
+  };
+  int at = q.partner < 0 ? q.vertex : q.partner;
+  for (std::size_t steps = 0; steps < peaks_.size() && !is_prong(at); ++steps) {
+    const auto next = peak_at_.find(at);
+    if (next == peak_at_.end() || peaks_[next->second].partner < 0) break;
+    at = peaks_[next->second].partner;
+  }
+  return at;
+}
+
 Prongs ProngHierarchy::prongs(double tau) const {
   check_option("tau", tau);
   std::vector<const Peak*> kept;
@@ -549,12 +563,15 @@ Prongs ProngHierarchy::prongs(double tau) const {
   // Fingers of a hand (see the class comment; cpp/src/prong_fingers.cpp).
   const std::vector<const Peak*> hand = fingers(tau, kept);
   kept.insert(kept.end(), hand.begin(), hand.end());
+  // A head's end on one of two horns moved to its middle (cpp/src/prong_midline.cpp).
+  const int midline = move_to_midline(kept);
   std::stable_sort(kept.begin(), kept.end(),
                    [](const Peak* a, const Peak* b) { return a->ratio < b->ratio; });
   Prongs out;
   out.tau = tau;
   out.mirror_twins = static_cast<int>(twins.size());
   out.fingers = static_cast<int>(hand.size());
+  out.midline = midline;
   const auto k = static_cast<Eigen::Index>(kept.size());
   out.vertices.resize(k);
   out.positions.resize(k, 3);

@@ -327,15 +327,18 @@ TEST(Prongs, AMirrorTwinOfAProngIsAProngTooWhenItIsALimb) {
   ASSERT_EQ(spot.prongs.mirror_twins, 1) << ratios(spot);
   const Eigen::Index n = spot.prongs.vertices.size();
   ASSERT_EQ(n, 5) << "4 legs and the head";
-  EXPECT_GE(spot.prongs.significance[n - 1], 0.85) << "the twin comes last, past tau";
-  EXPECT_LT(spot.prongs.significance[n - 1], dcg::ProngHierarchy::kTwinRatio);
+  // The twin: the one past tau below kTwinRatio (the head's end past it too, moved to the nose).
+  Eigen::Index t = 0;
+  while (t < n && spot.prongs.significance[t] < 0.85) ++t;
+  ASSERT_LT(t, n) << ratios(spot);
+  EXPECT_LT(spot.prongs.significance[t], dcg::ProngHierarchy::kTwinRatio);
   // Spot is symmetric about x = 0 (normalized units: the working mesh's): the twin's peak is the
   // mirror image of a prong's (a leg's), not another bump.
-  const Eigen::RowVector3d twin = spot.prongs.positions.row(n - 1);
+  const Eigen::RowVector3d twin = spot.prongs.positions.row(t);
   const Eigen::RowVector3d mirrored(-twin.x(), twin.y(), twin.z());
   double nearest = 1e9;
-  for (Eigen::Index i = 0; i + 1 < n; ++i)
-    nearest = std::min(nearest, (spot.prongs.positions.row(i) - mirrored).norm());
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (i != t) nearest = std::min(nearest, (spot.prongs.positions.row(i) - mirrored).norm());
   EXPECT_LT(nearest, 0.02) << "the twin mirrors a leg";
   EXPECT_LT(twin.y(), -0.3) << "a hoof, at the bottom";
 
@@ -343,14 +346,42 @@ TEST(Prongs, AMirrorTwinOfAProngIsAProngTooWhenItIsALimb) {
   const dcg::ProngFeatures armadillo = prongs_of(dcg::read_mesh(dir + "/armadillo.obj"));
   EXPECT_EQ(armadillo.prongs.mirror_twins, 0) << ratios(armadillo);
   EXPECT_EQ(armadillo.prongs.vertices.size(), 6);
-  // The ear it leaves out is a twin in all but length: same value, same plane, past tau.
+  // The ear it leaves out is a twin in all but length: same value, same plane, past tau (its
+  // partner, the other ear, is no prong: the head's end moved from it to the snout).
   bool ear = false;
-  for (const dcg::Peak& q : armadillo.hierarchy.peaks()) {
-    if (q.ratio < 0.85 || q.ratio >= dcg::ProngHierarchy::kTwinRatio || q.global) continue;
-    for (Eigen::Index i = 0; i < armadillo.prongs.vertices.size(); ++i)
-      ear |= armadillo.prongs.vertices[i] == q.partner;
-  }
+  for (const dcg::Peak& q : armadillo.hierarchy.peaks())
+    ear |= q.ratio >= 0.85 && q.ratio < dcg::ProngHierarchy::kTwinRatio && !q.global;
   EXPECT_TRUE(ear) << "a candidate twin was there to be refused";
+  EXPECT_EQ(armadillo.prongs.midline, 1) << ratios(armadillo);
+}
+
+// Spot's and the cow's highest point is a horn: the head's end moves to the muzzle, on the
+// mirror plane, and nothing else moves; a shape whose prongs are not one of a pair keeps them.
+TEST(Prongs, AHeadEndOnOneOfTwoHornsMovesToTheMuzzle) {
+  const std::string dir = test::meshes_dir();
+  if (!std::filesystem::exists(dir + "/spot.obj")) GTEST_SKIP() << dir << " has no spot.obj";
+  const dcg::ProngFeatures spot = prongs_of(dcg::read_mesh(dir + "/spot.obj"));
+  EXPECT_EQ(spot.prongs.midline, 1) << ratios(spot);
+  int legs = 0, heads = 0;
+  for (Eigen::Index i = 0; i < spot.prongs.vertices.size(); ++i) {
+    const Eigen::RowVector3d p = spot.prongs.positions.row(i);  // x = 0 mirrors it, y up
+    if (p.y() < -0.3) {
+      ++legs;
+      continue;
+    }
+    ++heads;
+    EXPECT_LT(std::abs(p.x()), 0.01) << "on the mirror plane, not on a horn: " << p;
+    EXPECT_LT(p.z(), -0.2) << "the muzzle, at the front: " << p;
+  }
+  EXPECT_EQ(legs, 4);
+  EXPECT_EQ(heads, 1);
+
+  const Mesh hand = dcg::read_mesh(dir + "/hand.obj");  // five fingers side by side, no pair
+  EXPECT_EQ(prongs_of(hand).prongs.midline, 0);
+  if (!std::filesystem::exists(dir + "/cow.off")) return;
+  const dcg::ProngFeatures cow = prongs_of(dcg::read_mesh(dir + "/cow.off"));
+  EXPECT_EQ(cow.prongs.midline, 1) << ratios(cow);
+  EXPECT_EQ(cow.prongs.vertices.size(), 6) << "4 legs, tail, head";
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 // one flood fill of the global cap: no new geodesics.
 #pragma once
 
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -80,6 +81,9 @@ struct Prongs {
   int mirror_twins = 0;
   /// Of those, prongs kept as fingers of a hand (ratio >= tau; see ProngHierarchy).
   int fingers = 0;
+  /// Of those, prongs moved from one of a pair (a horn, an ear) to the mirror plane between
+  /// them (see ProngHierarchy).
+  int midline = 0;
 };
 
 /// The watershed of f, done once: every peak with its ratio. Re-thresholding is cheap.
@@ -104,6 +108,15 @@ struct Prongs {
 /// end in one prong's region stand within kFingerSpread lengths of each other; then also the
 /// peaks beside them (within kFingerSpread lengths) at least kThumbAspect times as long as
 /// wide (a thumb, shorter).
+///
+/// Midline: a head's highest point is often one of a pair, a horn or an ear (spot, cow.off,
+/// armadillo.obj), whose twin stays below tau; the head's end then sits on one side of a
+/// symmetric shape. A prong moves to the middle when it has such a twin (a peak whose region
+/// ended in the prong's region, not kept, its ratio below kMidlineRatio, f within kTwinValue of
+/// the prong's, the plane halfway between the two a mirror plane of the whole mesh as for
+/// mirror twins): to the strongest other peak of its region on that plane (within kMidlinePlane
+/// of half the pair's distance from it) whose ratio is below kMidlineRatio, a muzzle or a
+/// snout. Without one it stays where it is.
 class ProngHierarchy {
  public:
   ProngHierarchy() = default;
@@ -127,6 +140,9 @@ class ProngHierarchy {
   static constexpr int kFingerCount = 2;
   static constexpr double kFingerSpread = 3.0;
   static constexpr double kThumbAspect = 2.0;
+  static constexpr double kMidlineRatio = 0.98;
+  static constexpr double kMidlinePlane = 0.25;
+  static constexpr int kMidlineTwinTests = 4;  // mirror tests per prong (each reads the mesh)
   /// True when the cap {f >= tau * max f} around the global maximum has one boundary loop.
   bool global_cap_is_disk(double tau) const;
 
@@ -136,12 +152,18 @@ class ProngHierarchy {
   bool mirrors_mesh(int a, int b) const;  // the plane halfway between a and b mirrors it
   // The peaks past tau kept as fingers (see the class comment); `kept`: the prongs so far.
   std::vector<const Peak*> fingers(double tau, const std::vector<const Peak*>& kept) const;
+  // The prongs of `kept` moved to the middle (see the class comment), in place; how many moved.
+  int move_to_midline(std::vector<const Peak*>& kept) const;
+  // The vertex of the prong (in `prong_vertices`) whose region `q`'s region ended in, following
+  // partners; the last peak reached when none is a prong.
+  int region_prong(const Peak& q, const std::vector<int>& prong_vertices) const;
 
   Mesh mesh_;
   Eigen::VectorXd f_;
   std::vector<int> adjacency_start_, adjacency_;  // vertex -> neighbours (CSR)
   std::vector<Peak> peaks_;
-  int global_ = -1;  // index of the global peak in peaks_
+  std::unordered_map<int, int> peak_at_;  // peak vertex -> index in peaks_
+  int global_ = -1;                       // index of the global peak in peaks_
 };
 
 /// The scale function's options (geodesic_sources, seed) and the prong threshold.
