@@ -36,6 +36,7 @@
 #include "dcg/options.h"
 #include "dcg/surface_query.h"
 #include "polling.h"
+#include "vertex_grid.h"
 
 namespace dcg {
 namespace {
@@ -359,6 +360,7 @@ ProngHierarchy::ProngHierarchy(const Mesh& mesh, const Eigen::VectorXd& f, const
                      std::to_string(n) + " vertices");
   }
   if (!f.allFinite()) throw InputError("prong hierarchy: the scale function is not finite");
+  grid_ = std::make_shared<const internal::VertexGrid>(mesh.V);
   internal::ThrottledProgress tick(progress, kStage, from, to);
   tick(0);
   const EdgeGraph g = build_graph(mesh, [&] { tick(0); });
@@ -506,20 +508,22 @@ bool ProngHierarchy::cap_is_disk(int peak_vertex, double tau) const {
 
 bool ProngHierarchy::mirrors_mesh(int a, int b) const {
   const Eigen::Vector3d pa = mesh_.V.row(a), pb = mesh_.V.row(b);
-  if ((pa - pb).norm() == 0) return false;
+  if ((pa - pb).norm() == 0 || !grid_) return false;
   const Eigen::Vector3d normal = (pa - pb).normalized();
   const double offset = normal.dot(pa + pb) / 2;
   const Eigen::Index n = mesh_.V.rows();
   const Eigen::Index step = std::max<Eigen::Index>(1, n / 1000);  // about 1000 samples
-  double sum = 0;
-  Eigen::Index samples = 0;
-  for (Eigen::Index i = 0; i < n; i += step, ++samples) {
-    const Eigen::RowVector3d p = mesh_.V.row(i);
-    const Eigen::RowVector3d mirrored = p - 2 * (p.dot(normal) - offset) * normal.transpose();
-    sum += std::sqrt((mesh_.V.rowwise() - mirrored).rowwise().squaredNorm().minCoeff());
-  }
+  const Eigen::Index samples = (n + step - 1) / step;
   const double diagonal = (mesh_.V.colwise().maxCoeff() - mesh_.V.colwise().minCoeff()).norm();
-  return sum / static_cast<double>(samples) <= kTwinMirror * diagonal;
+  // The mean is at most kTwinMirror diagonals: the sum can stop as soon as it is past that
+  // (a plane that does not mirror the mesh is told from its first few dozen samples).
+  const double most = kTwinMirror * diagonal * static_cast<double>(samples);
+  double sum = 0;
+  for (Eigen::Index i = 0; i < n && sum <= most; i += step) {
+    const Eigen::Vector3d p = mesh_.V.row(i).transpose();
+    sum += grid_->nearest(p - 2 * (p.dot(normal) - offset) * normal);
+  }
+  return sum <= most;
 }
 
 bool ProngHierarchy::is_mirror_twin(const Peak& twin, const Peak& partner) const {

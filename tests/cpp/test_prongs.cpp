@@ -25,6 +25,7 @@
 #include "dcg/voronoi_balls.h"
 #include "manifest.h"
 #include "shapes.h"
+#include "vertex_grid.h"
 
 namespace {
 
@@ -382,6 +383,26 @@ TEST(Prongs, AHeadEndOnOneOfTwoHornsMovesToTheMuzzle) {
   const dcg::ProngFeatures cow = prongs_of(dcg::read_mesh(dir + "/cow.off"));
   EXPECT_EQ(cow.prongs.midline, 1) << ratios(cow);
   EXPECT_EQ(cow.prongs.vertices.size(), 6) << "4 legs, tail, head";
+}
+
+// The mirror tests' nearest-vertex grid finds what a scan of every vertex finds, for points
+// inside and far outside the box, on a solid cloud and on a flat one (no volume).
+TEST(Prongs, TheVertexGridFindsTheNearestVertex) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (const double flat : {1.0, 0.0}) {
+    dcg::Points V(500, 3);
+    for (Eigen::Index i = 0; i < V.rows(); ++i)
+      V.row(i) << unit(rng), 0.3 * unit(rng), flat * unit(rng);
+    const dcg::internal::VertexGrid grid(V);
+    for (int q = 0; q < 300; ++q) {
+      const Eigen::Vector3d p(3 * unit(rng), 3 * unit(rng), 3 * unit(rng));
+      const double scan = (V.rowwise() - p.transpose()).rowwise().norm().minCoeff();
+      ASSERT_DOUBLE_EQ(grid.nearest(p), scan) << p.transpose() << " flat " << (flat == 0);
+    }
+  }
+  EXPECT_TRUE(
+      std::isinf(dcg::internal::VertexGrid(dcg::Points(0, 3)).nearest(Eigen::Vector3d::Zero())));
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 // one flood fill of the global cap: no new geodesics.
 #pragma once
 
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -31,6 +32,9 @@
 namespace dcg {
 
 class SurfaceQuery;
+namespace internal {
+class VertexGrid;
+}
 
 struct ScaleFunctionOptions {
   /// Geodesic sources (ALGORITHM.md default 128). 0, or at least #V: every vertex is a source
@@ -162,8 +166,9 @@ class ProngHierarchy {
   Eigen::VectorXd f_;
   std::vector<int> adjacency_start_, adjacency_;  // vertex -> neighbours (CSR)
   std::vector<Peak> peaks_;
-  std::unordered_map<int, int> peak_at_;  // peak vertex -> index in peaks_
-  int global_ = -1;                       // index of the global peak in peaks_
+  std::unordered_map<int, int> peak_at_;              // peak vertex -> index in peaks_
+  std::shared_ptr<const internal::VertexGrid> grid_;  // mesh_'s vertices, for mirror tests
+  int global_ = -1;                                   // index of the global peak in peaks_
 };
 
 /// The scale function's options (geodesic_sources, seed) and the prong threshold.
