@@ -564,6 +564,25 @@ def test_an_exactly_symmetric_shape_pairs_its_limbs_across_its_own_plane(meshes_
     assert dcg.Skeleton.from_json(skeleton.to_json()).mirror_error == skeleton.mirror_error
 
 
+def test_spots_head_ends_in_its_muzzle_on_the_mirror_plane(meshes_dir):
+    """The default model's head bone: its highest point is a horn, yet the head's end is the
+    muzzle's (the engine's midline move, Prongs.midline), on the plane x = 0, at the front
+    (spot looks along -Z), ahead of and below the horns; one end bone in the middle, the
+    hooves' in pairs."""
+    V, F = dcg.load_mesh(meshes_dir / "spot.obj")
+    skeleton = shared_skeleton(V, F, "spot.obj")
+    plan = bones.bone_arrays(bones.plan_bones(skeleton))
+    size = float(np.linalg.norm(np.ptp(V, axis=0)))
+    ends = [i for i, kind in enumerate(plan["kinds"]) if kind == "end"]
+    middle = [i for i in ends if not plan["names"][i].endswith((".L", ".R"))]
+    assert len(ends) == 5 and len(middle) == 1, plan["names"]
+    tip = plan["tails"][middle[0]]
+    assert abs(tip[0]) < 1e-3 * size
+    horn = V[np.argmax(V[:, 1])]  # its highest vertex, a horn's tip
+    assert tip[2] < horn[2] - 0.05 * size  # ahead of the horns (not between them)
+    assert tip[1] < horn[1] - 0.05 * size
+
+
 def test_limbs_pair_only_when_they_end_alike():
     skeleton = body()
     skeleton.kinds[10] = "joint"  # the right hand: a branching node's kind
