@@ -5,8 +5,8 @@
 // - Regions are followed through partners as for fingers (region_prong), against the prongs as
 //   they were before any moved, so that the order prongs are visited in changes nothing.
 // - The twin is looked for among the strongest peaks first; each candidate costs a mirror test
-//   over the whole mesh (mirrors_mesh), so at most kMidlineTwinTests are tried per prong: a
-//   horn's twin is one of the strongest peaks of its region (spot's 2nd of 6).
+//   (mirrors_mesh: a thousand nearest-vertex queries), so at most kMidlineTwinTests are tried
+//   per prong: a horn's twin is one of the strongest peaks of its region (spot's 2nd of 6).
 #include <cmath>
 #include <vector>
 

@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <array>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -87,7 +87,7 @@ class VertexGrid {
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero();
   double cell_ = 1;
   int size_[3] = {1, 1, 1};
-  std::vector<int> start_;                // cell -> first slot in points_ (counting sort)
+  std::vector<int> start_;               // cell -> first slot in points_ (counting sort)
   std::vector<Eigen::Vector3d> points_;  // the vertices by cell
 };
 

@@ -114,7 +114,7 @@ struct Prongs {
 /// wide (a thumb, shorter).
 ///
 /// Midline: a head's highest point is often one of a pair, a horn or an ear (spot, cow.off,
-/// armadillo.obj), whose twin stays below tau; the head's end then sits on one side of a
+/// armadillo.obj, Q_Goblin), whose twin stays below tau; the head's end then sits on one side of a
 /// symmetric shape. A prong moves to the middle when it has such a twin (a peak whose region
 /// ended in the prong's region, not kept, its ratio below kMidlineRatio, f within kTwinValue of
 /// the prong's, the plane halfway between the two a mirror plane of the whole mesh as for
@@ -146,7 +146,7 @@ class ProngHierarchy {
   static constexpr double kThumbAspect = 2.0;
   static constexpr double kMidlineRatio = 0.98;
   static constexpr double kMidlinePlane = 0.25;
-  static constexpr int kMidlineTwinTests = 4;  // mirror tests per prong (each reads the mesh)
+  static constexpr int kMidlineTwinTests = 4;  // mirror tests per prong (1000 samples each)
   /// True when the cap {f >= tau * max f} around the global maximum has one boundary loop.
   bool global_cap_is_disk(double tau) const;
 
