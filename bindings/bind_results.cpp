@@ -245,6 +245,7 @@ void bind_skeleton(py::module_& m) {
       .field("significance", &S::significance)
       .field("links", &S::links)
       .field("polylines", &S::polylines)
+      .field("polyline_radii", &S::polyline_radii)
       .field("root", &S::root)
       .field("face_labels", &S::face_labels)
       .field("timings", &S::timings)

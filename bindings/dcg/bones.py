@@ -270,21 +270,34 @@ def limb_polyline(skeleton, limb):
     """Return (points #P by 3, nodes #P, segment_links #P-1, radii #P) of a limb: its links'
     polylines joined, from its first node, the skeleton's nodes where they fall (nodes[i] the
     node at point i, -1 between nodes), the link of each segment, and the skeleton radius at
-    each point (the nodes' radii, linear in arc length between them)."""
+    each point: the nodes' radii, and between them the distance to the surface the engine
+    measured there (`polyline_radii`: where the limb narrows between nodes, a neck or a wrist),
+    else (a skeleton without them) the nodes' radii linear in arc length."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    points, nodes, segment_links = [positions[limb[0][1]]], [limb[0][1]], []
+    measured = getattr(skeleton, "polyline_radii", None)
+    measured = measured if measured is not None and len(measured) == len(skeleton.polylines) \
+        else None
+    points, nodes, segment_links, inner_radii = [positions[limb[0][1]]], [limb[0][1]], [], [0.0]
     for link, start, stop, _ in limb:
         polyline = np.asarray(skeleton.polylines[link], dtype=float).reshape(-1, 3)
+        radii = None if measured is None else np.asarray(measured[link], dtype=float)
+        if radii is not None and len(radii) != len(polyline):
+            radii = None
         if int(skeleton.links[link][0]) != start:
             polyline = polyline[::-1]
+            radii = None if radii is None else radii[::-1]
         inner = list(polyline[1:-1])
         points += inner + [positions[stop]]
         nodes += [-1] * len(inner) + [stop]
         segment_links += [link] * (len(inner) + 1)
+        inner_radii += list(np.full(len(inner), np.nan) if radii is None else radii[1:-1]) + [0.0]
     points, nodes = np.array(points), np.array(nodes)
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
     at = np.flatnonzero(nodes >= 0)
     radii = np.interp(arc, arc[at], np.asarray(skeleton.radii, dtype=float)[nodes[at]])
+    inner_radii = np.array(inner_radii)
+    known = (nodes < 0) & np.isfinite(inner_radii) & (inner_radii > 0)
+    radii[known] = inner_radii[known]
     return points, nodes, np.array(segment_links, dtype=np.int64), radii
 
 
@@ -587,13 +600,22 @@ def symmetrize(plane, skeleton, chains, sides, joints, polylines):
         joints[i].points, joints[j].points = _paired_points(
             plane, joints[i], joints[j], (polylines[i], polylines[j]), tip, inside)
     for k, (limb, limb_points) in enumerate(zip(chains, joints)):
-        if sides[k][0] is None:
+        if sides[k][0] is None and _in_the_middle(plane, limb_points):
             limb_points.points = symmetry.onto_plane(plane, limb_points.original,
                                                      symmetry.MIRROR_REACH * _depths(limb_points))
         start, end = limb[0][1], limb[-1][2]
         limb_points.points[0] = nodes[start]
         if degree[end] != 1:
             limb_points.points[-1] = nodes[end]
+
+
+def _in_the_middle(plane, limb_points):
+    """Whether an unpaired limb lies in the middle, its joints then drawn onto the plane: its
+    end within MIRROR_REACH of its depth of it. One whose end leaves the plane crosses it (a
+    cylinder's two halves, their ends on opposite rims) or is off to one side, and keeps its
+    joints where they are."""
+    end = np.asarray(limb_points.original, dtype=float)[-1]
+    return abs(float(plane.signed(end))) <= symmetry.MIRROR_REACH * _depths(limb_points)[-1]
 
 
 def _depths(limb_points):

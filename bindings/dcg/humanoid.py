@@ -285,10 +285,12 @@ def _rooted(skeleton, root, kept=None):
     """A view of `skeleton` with another root and only the links `kept` (`_tree_links`, found
     when not given): what plan_bones reads."""
     kept = _tree_links(skeleton) if kept is None else kept
+    radii = getattr(skeleton, "polyline_radii", None)
     return SimpleNamespace(positions=skeleton.positions, kinds=skeleton.kinds,
                            radii=skeleton.radii,
                            links=np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)[kept],
-                           polylines=[skeleton.polylines[i] for i in kept], root=int(root))
+                           polylines=[skeleton.polylines[i] for i in kept], root=int(root),
+                           polyline_radii=[radii[i] for i in kept] if radii else [])
 
 
 def _chain_ends(body):

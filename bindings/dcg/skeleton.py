@@ -63,8 +63,10 @@ class _SkeletonMethods:
                     "a": int(a),
                     "b": int(b),
                     "polyline": [[float(x) for x in p] for p in poly],
+                    **({"radii": [float(r) for r in self.polyline_radii[l]]}
+                       if len(self.polyline_radii) == len(self.polylines) else {}),
                 }
-                for (a, b), poly in zip(self.links.tolist(), self.polylines)
+                for l, ((a, b), poly) in enumerate(zip(self.links.tolist(), self.polylines))
             ],
             "root": self.root,
             "timings": dict(self.timings),
@@ -89,6 +91,9 @@ class _SkeletonMethods:
             significance=np.array([n["significance"] for n in nodes], dtype=np.float64),
             links=np.array([[l["a"], l["b"]] for l in links], dtype=np.int64).reshape(-1, 2),
             polylines=[np.array(l["polyline"], dtype=np.float64).reshape(-1, 3) for l in links],
+            # Documents written before the polylines' radii were kept have none ([]).
+            polyline_radii=[np.array(l["radii"], dtype=np.float64) for l in links]
+            if all("radii" in l for l in links) and links else [],
             root=int(doc["root"]),
             face_labels=np.full(int(doc["mesh"]["faces"]), -1, dtype=np.int64),
             timings={k: float(v) for k, v in doc.get("timings", {}).items()},

@@ -292,6 +292,7 @@ const MirrorPlane& Extractor::mirror_plane() {
 }
 
 void Extractor::finish(Skeleton& s) {
+  measure_polyline_radii(s, query());
   skeleton_to_input(s, *prepared_, F_, V_.rows());
   // The plane n . w = o of the working mesh is n . x = o scale + n . offset in the input's.
   const MirrorPlane& m = mirror_plane();

@@ -5,6 +5,7 @@
 #include "dcg/errors.h"
 #include "dcg/prepare.h"
 #include "dcg/remap.h"
+#include "dcg/surface_query.h"
 
 namespace dcg {
 
@@ -64,6 +65,17 @@ Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
   return s;
 }
 
+void measure_polyline_radii(Skeleton& s, const SurfaceQuery& surface) {
+  s.polyline_radii.assign(s.polylines.size(), Eigen::VectorXd());
+  for (std::size_t l = 0; l < s.polylines.size(); ++l) {
+    const Points& polyline = s.polylines[l];
+    Eigen::VectorXd& radii = s.polyline_radii[l];
+    radii.resize(polyline.rows());
+    for (Eigen::Index i = 0; i < polyline.rows(); ++i)
+      radii[i] = surface.distance(polyline.row(i).transpose());
+  }
+}
+
 void skeleton_to_input(Skeleton& s, const PreparedMesh& pm, const Faces& F_in,
                        Eigen::Index input_vertices) {
   for (Eigen::Index i = 0; i < s.positions.rows(); ++i) {
@@ -74,6 +86,7 @@ void skeleton_to_input(Skeleton& s, const PreparedMesh& pm, const Faces& F_in,
       polyline.row(i) = pm.to_input(polyline.row(i));
   }
   s.radii *= pm.scale;
+  for (Eigen::VectorXd& radii : s.polyline_radii) radii *= pm.scale;
   const Eigen::VectorXi working_labels = s.face_labels;
   s.face_labels = Eigen::VectorXi::Constant(F_in.rows(), -1);
   if (working_labels.size() == pm.working.F.rows() && pm.map_face.size() == input_vertices) {

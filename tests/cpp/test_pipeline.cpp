@@ -141,6 +141,30 @@ TEST(Pipeline, MultiPartStarGetsItsEndsInsideItsParts) {
   }
 }
 
+// The polylines' radii: the distance from each point to the surface, in the input's units (a
+// capsule of radius 3, 26 long, far from the origin): about 3 along its cylinder.
+TEST(Pipeline, PolylineRadiiAreEachPointsDistanceToTheSurface) {
+  const dcg::Mesh mesh = dcg::test::transformed(dcg::test::capsule(0.3, 2.0),
+                                                Eigen::Matrix3d::Identity(), 10.0, {50, 0, 0});
+  const dcg::Skeleton s = dcg::extract_skeleton(mesh.V, mesh.F);
+  ASSERT_EQ(s.polyline_radii.size(), s.polylines.size());
+  const dcg::SurfaceQuery surface(mesh);
+  int along = 0;
+  for (std::size_t l = 0; l < s.polylines.size(); ++l) {
+    ASSERT_EQ(s.polyline_radii[l].size(), s.polylines[l].rows());
+    for (Eigen::Index i = 0; i < s.polylines[l].rows(); ++i) {
+      const Eigen::Vector3d p = s.polylines[l].row(i).transpose();
+      const double r = s.polyline_radii[l][i];
+      EXPECT_NEAR(r, surface.distance(p), 0.05) << "link " << l << " point " << i;
+      if (std::abs(p.z()) < 7) {  // on the cylinder, away from the caps
+        EXPECT_NEAR(r, 3.0, 0.15) << p.transpose();
+        ++along;
+      }
+    }
+  }
+  EXPECT_GT(along, 0);
+}
+
 TEST(Pipeline, ProgressCallbackCancels) {
   const dcg::Mesh mesh = dcg::read_mesh(repo_file("data/meshes/torus.off"));
   dcg::Extractor extractor(mesh.V, mesh.F, {}, [](const std::string&, double) { return false; });

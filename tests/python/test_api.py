@@ -101,12 +101,20 @@ def test_json_schema_and_round_trip(spot_skeleton):
     node = doc["nodes"][0]
     assert set(node) == {"id", "kind", "position", "radius", "significance"}
     assert [n["id"] for n in doc["nodes"]] == list(range(s.node_count))
-    assert set(doc["links"][0]) == {"a", "b", "polyline"}
+    assert set(doc["links"][0]) == {"a", "b", "polyline", "radii"}
+    assert len(doc["links"][0]["radii"]) == len(doc["links"][0]["polyline"])
     assert "total" in doc["timings"]
     back = dcg.Skeleton.from_json(s.to_json())
     np.testing.assert_allclose(back.positions, s.positions)
     np.testing.assert_array_equal(back.links, s.links)
     assert list(back.kinds) == list(s.kinds)
+    for theirs, ours in zip(back.polyline_radii, s.polyline_radii):
+        np.testing.assert_allclose(theirs, ours)
+    # A document written before the polylines' radii were kept reads with none: the bone
+    # planner then interpolates the nodes' radii (dcg.bones.limb_polyline).
+    for link in doc["links"]:
+        del link["radii"]
+    assert dcg.Skeleton.from_dict(doc).polyline_radii == []
 
 
 def test_extractor_stages_are_kept_and_consistent(spot):

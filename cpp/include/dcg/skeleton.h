@@ -11,6 +11,8 @@
 
 namespace dcg {
 
+class SurfaceQuery;
+
 struct DomainGraph;
 struct PreparedMesh;
 struct Remapped;
@@ -31,8 +33,12 @@ struct Skeleton {
   Eigen::VectorXd significance;   ///< #N prong ratio s/p for ends (lower = stronger), else 0
   Edges links;                    ///< #L by 2 node index pairs
   std::vector<Points> polylines;  ///< #L polylines, each from links(l,0) to links(l,1) inclusive
-  int root = -1;                  ///< the root node (the torso joint), -1 when empty
-  Eigen::VectorXi face_labels;    ///< #F_in node per input face; -1 = not labelled yet
+  /// #L: the distance from each point of each polyline to the surface (the working mesh's, as
+  /// the nodes' radii), where the shape narrows between nodes (a neck, a wrist); empty when not
+  /// measured (a document written before they were kept).
+  std::vector<Eigen::VectorXd> polyline_radii;
+  int root = -1;                ///< the root node (the torso joint), -1 when empty
+  Eigen::VectorXi face_labels;  ///< #F_in node per input face; -1 = not labelled yet
   /// Seconds per stage in the order they ran, then "total".
   std::vector<std::pair<std::string, double>> timings;
   // What stage 0 said about the mesh.
@@ -61,6 +67,10 @@ Skeleton assemble_skeleton(const DomainGraph& graph, const Remapped& remapped,
 /// Sets s.root: the joint of largest radius (the torso), else the node of largest radius
 /// (-1 when there is no node).
 void choose_root(Skeleton& s);
+
+/// s.polyline_radii: the distance from each point of s's polylines to `surface` (normalized
+/// units, as s).
+void measure_polyline_radii(Skeleton& s, const SurfaceQuery& surface);
 
 /// A skeleton in normalized units -> the input's coordinates (positions, polylines, radii), with
 /// its face labels of the working mesh carried to the input's faces (F_in #F by 3 indices into
