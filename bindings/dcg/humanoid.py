@@ -290,7 +290,8 @@ def _rooted(skeleton, root, kept=None):
                            radii=skeleton.radii,
                            links=np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)[kept],
                            polylines=[skeleton.polylines[i] for i in kept], root=int(root),
-                           polyline_radii=[radii[i] for i in kept] if radii else [])
+                           polyline_radii=[radii[i] for i in kept]
+                           if radii is not None and len(radii) == len(skeleton.polylines) else [])
 
 
 def _chain_ends(body):

@@ -36,6 +36,10 @@ class _SkeletonMethods:
     def node_count(self) -> int:
         return int(self.positions.shape[0])
 
+    def _has_polyline_radii(self) -> bool:
+        radii = self.polyline_radii
+        return radii is not None and len(radii) == len(self.polylines) > 0
+
     def to_dict(self) -> Dict[str, Any]:
         """The JSON document as Python objects (lists, floats, ints)."""
         return {
@@ -64,7 +68,7 @@ class _SkeletonMethods:
                     "b": int(b),
                     "polyline": [[float(x) for x in p] for p in poly],
                     **({"radii": [float(r) for r in self.polyline_radii[l]]}
-                       if len(self.polyline_radii) == len(self.polylines) else {}),
+                       if self._has_polyline_radii() else {}),
                 }
                 for l, ((a, b), poly) in enumerate(zip(self.links.tolist(), self.polylines))
             ],
