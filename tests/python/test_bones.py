@@ -216,31 +216,22 @@ def test_a_link_narrowing_between_its_nodes_draws_the_joint_there(no_inset):
         assert np.allclose(bones.limb_polyline(skeleton, bones.limbs(skeleton)[0])[3], 0.3)
 
 
-def test_a_cylinders_two_halves_keep_their_joints_on_their_polylines(meshes_dir):
-    """SkinnedCylinder's skeleton is two limbs from its middle to ends on opposite rims of its
-    caps: they do not pair, and the plane its nodes mirror across runs across the axis. Such a
-    limb leaves the plane, so it is no part of the middle: its joints stay on its own polyline
-    instead of being drawn onto that plane (bones._in_the_middle)."""
-    V, F = dcg.load_mesh(meshes_dir / "rigged" / "SkinnedCylinder.obj")
-    skeleton = shared_skeleton(V, F, "SkinnedCylinder.obj")
-    assert bones.plan_plane(skeleton) is not None
-    arrays = bones.bone_arrays(limb_plan(skeleton))
-    heads, tails = metrics.parent_segments(*_polyline_bones(skeleton))
-    size = float(np.linalg.norm(np.ptp(V, axis=0)))
-    joints = np.concatenate([arrays["heads"], arrays["tails"][arrays["kinds"] != "end"]])
-    # (the branching node in the middle moves onto the plane: 0.05% of the size)
-    assert metrics.segment_distances(joints, heads, tails).min(axis=1).max() < 0.01 * size
+def test_an_unpaired_limb_that_leaves_the_mirror_plane_is_no_part_of_the_middle():
+    """Only an unpaired limb that stays on the mirror plane (its end within MIRROR_REACH of its
+    radius there) has its joints drawn onto it: one that leaves it (SkinnedCylinder's two
+    halves, ending on opposite rims of its caps while its nodes' plane runs across its axis;
+    a tail swung to one side) keeps them where they are."""
+    plane = bones.symmetry.Plane(np.array([1.0, 0.0, 0.0]), 0.0, 0.0)
+    reach = bones.symmetry.MIRROR_REACH
 
-
-def _polyline_bones(skeleton):
-    """(points, parents) of a skeleton's polylines as chains: each point's parent the one
-    before it on its link (metrics.parent_segments then gives the polylines' segments)."""
-    points, parents = [], []
-    for polyline in skeleton.polylines:
-        start = len(points)
-        points += list(np.asarray(polyline, dtype=float))
-        parents += [-1] + list(range(start, len(points) - 1))
-    return np.array(points), np.array(parents)
+    def limb(end_x):
+        return types.SimpleNamespace(original=np.array([[0, 0, 0], [0.05, 0, 1], [end_x, 0, 2]]),
+                                     own_radii=np.array([0.3, 0.3, 0.2]))
+    # the end's depth is its bone's head's radius (0.3: bones._depths)
+    assert bones._in_the_middle(plane, limb(0.0))
+    assert bones._in_the_middle(plane, limb(-0.99 * reach * 0.3))
+    assert not bones._in_the_middle(plane, limb(1.01 * reach * 0.3))
+    assert not bones._in_the_middle(plane, limb(2.0))
 
 
 def test_a_limb_runs_through_connection_nodes_and_stops_at_branches(no_inset):
