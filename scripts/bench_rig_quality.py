@@ -13,12 +13,12 @@ our paired bones (`.L` / `.R`) are from mirroring each other across the plan's m
 method. A second set of CD columns ("inside") leaves out the artist's joints outside the mesh
 (winding number, scripts/mesh_parts.py: a root on the floor, a hub above the body, IK targets),
 each kept joint's parent its nearest kept ancestor (dcg.metrics.kept_joints), and our root bone
-on the floor: how much of the
-distance is joints no skeleton inside the shape can reach (a diagnostic; issue 17's targets are
-on the plain columns). A second table sets each CD beside the character's before issue 17's
-bone planner (scripts/rig_quality_before.json: measured at that commit, the command in the
-file), the issue's "no character worse than today". Writes the Markdown tables to --out (and
-prints them) and one JSON line per character to the same path with .jsonl.
+on the floor: how much of the distance is joints no skeleton inside the shape can reach (a
+diagnostic; issue 17's targets are on the plain columns). A second table sets each CD beside
+the character's before issue 17's bone planner (scripts/rig_quality_before.json: measured at
+that commit, the command in the file), the issue's "no character worse than today". Writes the
+Markdown tables to --out (and prints them) and one JSON line per character to the same path
+with .jsonl.
 """
 import argparse
 import json
@@ -169,9 +169,9 @@ def main():
               "leave out the artist's joints outside the mesh ('their joints outside': a root "
               "on the floor, a hub above the body, IK targets; winding number), each kept "
               "joint's parent its nearest kept ancestor, and our root bone on the floor: a "
-              "diagnostic of how much of the "
-              "distance no skeleton inside the shape can remove (the targets are on the first "
-              "three columns). CD-J2J is the mean of its two directions: 'J2J ours->theirs' "
+              "diagnostic of how much of the distance no skeleton inside the shape can remove "
+              "(the targets are on the first three columns). CD-J2J is the mean of its two "
+              "directions: 'J2J ours->theirs' "
               "(our joints to the artist's nearest) and 'J2J theirs->ours'; 'of it unrigged' is "
               "the part of the first from our joints farther than "
               f"{metrics.FAR_JOINT:g}% from every artist bone (limbs the artist did not rig), "

@@ -46,10 +46,10 @@ def weights_npz(V, F, skeleton, prepared=None, progress=None,
     when `root_bone`, as arrays by dcg.bones.bone_arrays):
     bone_names, bone_heads, bone_tails, bone_parents (-1 at a root), bone_links, bone_kinds,
     bone_z_axes (#B x 3, each bone's local Z axis) and bone_rolls (#B, Blender's roll for it,
-    radians, in the model's coordinates); then status (the same text), vertices (#V) and, when the status is "ok",
-    weights: #V x #B float32, the weights of the input's vertices (in load_mesh order) per
-    bone, from dcg.skin_weights (rows sum to 1; the root bone's column is zero: it deforms
-    nothing). No weights are made up when it is missing.
+    radians, in the model's coordinates); then status (the same text), vertices (#V) and, when
+    the status is "ok", weights: #V x #B float32, the weights of the input's vertices (in
+    load_mesh order) per bone, from dcg.skin_weights (rows sum to 1; the root bone's column is
+    zero: it deforms nothing). No weights are made up when it is missing.
     `options`: dcg.OPTIONS values (the weights' own used).
     """
     bones = bone_arrays(plan_bones(skeleton, bone_detail, bone_names, root_bone=root_bone, up=up))

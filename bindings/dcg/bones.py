@@ -60,6 +60,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from . import naming, rolls, symmetry
+from .skeleton import measured_polyline_radii
 from .symmetry import MIRROR_TOLERANCE, limb_sides, mirror_plane  # noqa: F401 (this API)
 
 KINDS = ("end", "joint", "connection", "root")
@@ -274,29 +275,27 @@ def limb_polyline(skeleton, limb):
     measured there (`polyline_radii`: where the limb narrows between nodes, a neck or a wrist),
     else (a skeleton without them) the nodes' radii linear in arc length."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    measured = getattr(skeleton, "polyline_radii", None)
-    measured = measured if measured is not None and len(measured) == len(skeleton.polylines) \
-        else None
-    points, nodes, segment_links, inner_radii = [positions[limb[0][1]]], [limb[0][1]], [], [0.0]
+    measured = measured_polyline_radii(skeleton)
+    points, nodes, segment_links, inner_radii = [positions[limb[0][1]]], [limb[0][1]], [], [np.nan]
     for link, start, stop, _ in limb:
         polyline = np.asarray(skeleton.polylines[link], dtype=float).reshape(-1, 3)
-        radii = None if measured is None else np.asarray(measured[link], dtype=float)
-        if radii is not None and len(radii) != len(polyline):
-            radii = None
+        radii = np.full(len(polyline), np.nan) if measured is None else \
+            np.asarray(measured[link], dtype=float)
+        if len(radii) != len(polyline):
+            radii = np.full(len(polyline), np.nan)
         if int(skeleton.links[link][0]) != start:
-            polyline = polyline[::-1]
-            radii = None if radii is None else radii[::-1]
+            polyline, radii = polyline[::-1], radii[::-1]
         inner = list(polyline[1:-1])
         points += inner + [positions[stop]]
         nodes += [-1] * len(inner) + [stop]
         segment_links += [link] * (len(inner) + 1)
-        inner_radii += list(np.full(len(inner), np.nan) if radii is None else radii[1:-1]) + [0.0]
+        inner_radii += list(radii[1:-1]) + [np.nan]  # a node keeps its own radius
     points, nodes = np.array(points), np.array(nodes)
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
     at = np.flatnonzero(nodes >= 0)
     radii = np.interp(arc, arc[at], np.asarray(skeleton.radii, dtype=float)[nodes[at]])
     inner_radii = np.array(inner_radii)
-    known = (nodes < 0) & np.isfinite(inner_radii) & (inner_radii > 0)
+    known = np.isfinite(inner_radii) & (inner_radii > 0)
     radii[known] = inner_radii[known]
     return points, nodes, np.array(segment_links, dtype=np.int64), radii
 
@@ -365,8 +364,8 @@ def add_root(plan, skeleton, plane=None, up=UP):
     Its head lies on the floor across `up` (the lowest point of the skeleton's balls, each
     node's position less its radius) under the centre of the balls' bounding box, where a
     standing character's origin is (moved onto `plane`, the plan's mirror plane, along its
-    normal when there is one); its tail at the first bone's head (the skeleton's root, the pelvis of a humanoid), so
-    that it stands upright under the body."""
+    normal when there is one); its tail at the first bone's head (the skeleton's root, the
+    pelvis of a humanoid), so that it stands upright under the body."""
     if not plan:
         return plan
     up = np.asarray(up, dtype=float).reshape(3)

@@ -41,6 +41,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from . import naming, symmetry
+from .skeleton import measured_polyline_radii
 from .bones import limbs, plan_bones
 from .bones import plan_plane as bones_plan_plane
 
@@ -285,13 +286,12 @@ def _rooted(skeleton, root, kept=None):
     """A view of `skeleton` with another root and only the links `kept` (`_tree_links`, found
     when not given): what plan_bones reads."""
     kept = _tree_links(skeleton) if kept is None else kept
-    radii = getattr(skeleton, "polyline_radii", None)
+    radii = measured_polyline_radii(skeleton)
     return SimpleNamespace(positions=skeleton.positions, kinds=skeleton.kinds,
                            radii=skeleton.radii,
                            links=np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)[kept],
                            polylines=[skeleton.polylines[i] for i in kept], root=int(root),
-                           polyline_radii=[radii[i] for i in kept]
-                           if radii is not None and len(radii) == len(skeleton.polylines) else [])
+                           polyline_radii=[] if radii is None else [radii[i] for i in kept])
 
 
 def _chain_ends(body):

@@ -23,6 +23,14 @@ def result_fields(core_class) -> List[str]:
 FIELDS = result_fields(_core.Skeleton)
 
 
+def measured_polyline_radii(skeleton):
+    """`skeleton.polyline_radii` (the distance to the surface at each polyline point, one array
+    per polyline) or None where it has none (an older document, a view without them)."""
+    radii = getattr(skeleton, "polyline_radii", None)
+    polylines = skeleton.polylines
+    return radii if radii is not None and len(radii) == len(polylines) > 0 else None
+
+
 class _SkeletonMethods:
     """What dcg.Skeleton adds to its fields: JSON, dicts, node_count."""
 
@@ -35,10 +43,6 @@ class _SkeletonMethods:
     @property
     def node_count(self) -> int:
         return int(self.positions.shape[0])
-
-    def _has_polyline_radii(self) -> bool:
-        radii = self.polyline_radii
-        return radii is not None and len(radii) == len(self.polylines) > 0
 
     def to_dict(self) -> Dict[str, Any]:
         """The JSON document as Python objects (lists, floats, ints)."""
@@ -68,7 +72,7 @@ class _SkeletonMethods:
                     "b": int(b),
                     "polyline": [[float(x) for x in p] for p in poly],
                     **({"radii": [float(r) for r in self.polyline_radii[l]]}
-                       if self._has_polyline_radii() else {}),
+                       if measured_polyline_radii(self) is not None else {}),
                 }
                 for l, ((a, b), poly) in enumerate(zip(self.links.tolist(), self.polylines))
             ],

@@ -79,11 +79,7 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
   constexpr std::size_t kMaxCandidates = 256;  // the strongest; a scan's noise adds thousands
   const int n = static_cast<int>(f_.size());
   std::unordered_set<int> prong_vertices;
-  std::vector<int> prong_list;
-  for (const Peak* p : kept) {
-    prong_vertices.insert(p->vertex);
-    prong_list.push_back(p->vertex);
-  }
+  for (const Peak* p : kept) prong_vertices.insert(p->vertex);
 
   std::vector<Protrusion> found;
   std::vector<int> mark(n, -1), region;
@@ -96,7 +92,7 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
     const int stamp = static_cast<int>(found.size());
     if (fill_region(f_, adjacency_start_, adjacency_, q, cap, mark, stamp, region))
       measure(mesh_.V, adjacency_start_, adjacency_, mark, stamp, region, t);
-    t.hand = region_prong(q, prong_list);
+    t.hand = region_prong(q, prong_vertices);
     found.push_back(t);
   }
 

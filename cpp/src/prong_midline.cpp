@@ -8,6 +8,7 @@
 //   (mirrors_mesh: a thousand nearest-vertex queries), so at most kMidlineTwinTests are tried
 //   per prong: a horn's twin is one of the strongest peaks of its region (spot's 2nd of 6).
 #include <cmath>
+#include <unordered_set>
 #include <vector>
 
 #include "dcg/prongs.h"
@@ -15,19 +16,14 @@
 namespace dcg {
 
 int ProngHierarchy::move_to_midline(std::vector<const Peak*>& kept) const {
-  std::vector<int> prongs;
-  for (const Peak* p : kept) prongs.push_back(p->vertex);
-  const auto is_prong = [&](const Peak& q) {
-    for (const int v : prongs)
-      if (v == q.vertex) return true;
-    return false;
-  };
+  std::unordered_set<int> prongs;
+  for (const Peak* p : kept) prongs.insert(p->vertex);
   // The peaks that may stand in for a prong or be its twin: strong enough, not prongs.
   std::vector<const Peak*> candidates;
   std::vector<int> owner;
   for (const Peak& q : peaks_) {
     if (!(q.ratio < kMidlineRatio)) break;  // sorted by ratio
-    if (q.global || is_prong(q)) continue;
+    if (q.global || prongs.count(q.vertex)) continue;
     candidates.push_back(&q);
     owner.push_back(region_prong(q, prongs));
   }

@@ -514,10 +514,9 @@ bool ProngHierarchy::mirrors_mesh(int a, int b) const {
   const Eigen::Index n = mesh_.V.rows();
   const Eigen::Index step = std::max<Eigen::Index>(1, n / 1000);  // about 1000 samples
   const Eigen::Index samples = (n + step - 1) / step;
-  const double diagonal = (mesh_.V.colwise().maxCoeff() - mesh_.V.colwise().minCoeff()).norm();
   // The mean is at most kTwinMirror diagonals: the sum can stop as soon as it is past that
   // (a plane that does not mirror the mesh is told from its first few dozen samples).
-  const double most = kTwinMirror * diagonal * static_cast<double>(samples);
+  const double most = kTwinMirror * grid_->diagonal() * static_cast<double>(samples);
   double sum = 0;
   for (Eigen::Index i = 0; i < n && sum <= most; i += step) {
     const Eigen::Vector3d p = mesh_.V.row(i).transpose();
@@ -533,12 +532,10 @@ bool ProngHierarchy::is_mirror_twin(const Peak& twin, const Peak& partner) const
   return mirrors_mesh(twin.vertex, partner.vertex);
 }
 
-int ProngHierarchy::region_prong(const Peak& q, const std::vector<int>& prong_vertices) const {
-  const auto is_prong = [&](int v) {
-    return std::find(prong_vertices.begin(), prong_vertices.end(), v) != prong_vertices.end();
-  };
+int ProngHierarchy::region_prong(const Peak& q,
+                                 const std::unordered_set<int>& prong_vertices) const {
   int at = q.partner < 0 ? q.vertex : q.partner;
-  for (std::size_t steps = 0; steps < peaks_.size() && !is_prong(at); ++steps) {
+  for (std::size_t steps = 0; steps < peaks_.size() && !prong_vertices.count(at); ++steps) {
     const auto next = peak_at_.find(at);
     if (next == peak_at_.end() || peaks_[next->second].partner < 0) break;
     at = peaks_[next->second].partner;

@@ -25,6 +25,7 @@ class VertexGrid {
     if (V.rows() == 0) return;
     lo_ = V.colwise().minCoeff().transpose();
     const Eigen::Vector3d extent = V.colwise().maxCoeff().transpose() - lo_;
+    diagonal_ = extent.norm();
     // About n / kPerCell cells: the side of a cube of the box's volume over that count, or of a
     // square of its largest face's area, or a length of its longest side, whichever is largest
     // (a flat cloud has no volume, a straight one no area either).
@@ -42,6 +43,9 @@ class VertexGrid {
     for (Eigen::Index v = 0; v < V.rows(); ++v)
       points_[fill[index(cell_of(V.row(v)))]++] = V.row(v).transpose();
   }
+
+  /// The diagonal of the vertices' bounding box (0 without vertices).
+  double diagonal() const { return diagonal_; }
 
   /// The distance from p to the nearest vertex (infinity without vertices): the rings of cells
   /// around p's cell (clamped into the grid) one by one, until the next ring is farther than
@@ -85,6 +89,7 @@ class VertexGrid {
   }
 
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero();
+  double diagonal_ = 0;
   double cell_ = 1;
   int size_[3] = {1, 1, 1};
   std::vector<int> start_;               // cell -> first slot in points_ (counting sort)

@@ -22,6 +22,7 @@
 
 #include <memory>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <Eigen/Core>
@@ -160,7 +161,7 @@ class ProngHierarchy {
   int move_to_midline(std::vector<const Peak*>& kept) const;
   // The vertex of the prong (in `prong_vertices`) whose region `q`'s region ended in, following
   // partners; the last peak reached when none is a prong.
-  int region_prong(const Peak& q, const std::vector<int>& prong_vertices) const;
+  int region_prong(const Peak& q, const std::unordered_set<int>& prong_vertices) const;
 
   Mesh mesh_;
   Eigen::VectorXd f_;
