@@ -5,9 +5,10 @@
         [--rigged ../shared/meshes/rigged] [--out out/bench/rig-quality.md]
 
 Per character (NAME.obj + NAME.rig.txt): dcg.extract_skeleton with the default options, its
-bones as the add-on plans them (dcg.bones.plan_bones, default bone_detail; our joints are the
-bones' heads and tails) against the artist's joints and parent-child bones: CD-J2J, CD-J2B and
-CD-B2B (dcg.metrics.skeleton_metrics) in % of the mesh's longest bounding-box side, how far
+bones as the add-on plans them (dcg.bones.plan_bones, default bone_detail, the root bone's
+floor across the file's up axis, `floor_up`; our joints are the bones' heads and tails)
+against the artist's joints and parent-child bones: CD-J2J, CD-J2B and CD-B2B
+(dcg.metrics.skeleton_metrics) in % of the mesh's longest bounding-box side, how far
 our paired bones (`.L` / `.R`) are from mirroring each other across the plan's mirror plane
 (dcg.metrics.mirror_error, same unit; dcg.bones.plan_plane), the bone counts and the engine's
 method. A second set of CD columns ("inside") leaves out the artist's joints outside the mesh
@@ -25,6 +26,8 @@ import json
 import sys
 import time
 from pathlib import Path
+
+import numpy as np
 
 import mesh_parts
 import quality_tables
@@ -57,7 +60,20 @@ COLUMNS = [("character", "name", ""), ("CD-J2J %", "cd_j2j", ".3f"),
            ("pairs", "pairs", "d"), ("unpaired limbs", "unpaired_limbs", "d"),
            ("our bones", "bones", "d"),
            ("their bones", "their_bones", "d"),
-           ("method", "method", ""), ("seconds", "seconds", ".2f")]
+           ("up", "up", ""), ("method", "method", ""), ("seconds", "seconds", ".2f")]
+
+
+def floor_up(V) -> np.ndarray:
+    """The up axis of a character's file: the coordinate axis whose plane through the origin
+    its lowest point is nearest (in longest sides; Z first on ties), the floor its exporter stood
+    it on. The game characters' conversions stand on z = 0 (the flying Q_Dragon and Q_Wasp a
+    little above it), glTF-Blender-IO's cylinder on y = 0 (glTF's up, which Blender's importer
+    turns to +Z). The root bone's floor lies across it, as it lies across Blender's +Z for a
+    model standing in the viewport."""
+    V = np.asarray(V, dtype=float)
+    lowest = np.abs(V.min(axis=0)) / max(float(np.ptp(V, axis=0).max()), 1e-300)
+    axis = min((2, 1, 0), key=lambda a: lowest[a])  # stable: Z, then Y, then X on ties
+    return np.eye(3)[axis]
 
 
 def measure(name, obj, rig_path, bone_detail) -> dict:
@@ -70,8 +86,9 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
     start = time.perf_counter()
     skeleton = dcg.extract_skeleton(V, F)
     seconds = time.perf_counter() - start
-    plan = bones.bone_arrays(bones.plan_bones(skeleton, bone_detail))
-    row = {"name": name, "vertices": len(V), "bones": len(plan["heads"]),
+    up = floor_up(V)
+    plan = bones.bone_arrays(bones.plan_bones(skeleton, bone_detail, up=up))
+    row = {"name": name, "vertices": len(V), "bones": len(plan["heads"]), "up": "XYZ"[up.argmax()],
            "their_bones": len(rig.joints), "method": skeleton.method, "seconds": seconds}
     row.update(metrics.skeleton_metrics(V, plan["heads"], plan["tails"], rig.joints,
                                         rig.parents))
@@ -156,8 +173,10 @@ def main():
     lines = quality_tables.header("Skeleton quality: our bones against the artists' skeletons")
     lines += [f"Characters of `{args.rigged}`. Ours: `dcg.extract_skeleton` (defaults), bones of "
               f"`dcg.bones.plan_bones` (bone_detail {args.bone_detail:g}); our joints are the "
-              "bones' distinct heads and tails. Theirs: the rig's joints, bones from each parent "
-              "to each child. Chamfer distances (`dcg.metrics`) in % of the mesh's longest "
+              "bones' distinct heads and tails; the root bone's floor lies across the file's up "
+              "axis ('up': `floor_up`, the coordinate plane the model stands on). Theirs: the "
+              "rig's joints, bones from each parent to each child. Chamfer distances "
+              "(`dcg.metrics`) in % of the mesh's longest "
               "bounding-box side; CD-B2B samples both bone sets 0.5% of that side apart. "
               "Mirror: the distance from each `.L` bone's head and tail mirrored across the "
               "plan's mirror plane (`dcg.bones.plan_plane`) to its `.R` partner's, mean and "

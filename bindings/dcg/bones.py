@@ -88,6 +88,9 @@ ROOT_BONE = True
 ROOT_NAME = "root"
 #: The up direction, across which the root bone's floor lies (Blender's world +Z).
 UP = (0.0, 0.0, 1.0)
+#: The root bone's head moves onto the mirror plane along the floor when the plane stands
+#: within this many degrees of upright (`add_root`).
+UPRIGHT_PLANE = 45.0
 #: A limb of the middle whose end lies off the mirror plane for at most this many radii (where
 #: it leaves the plane) of its length ends there instead (`_middle_ends`: spot's head on a horn).
 TWIN_TIP = 3.0
@@ -375,8 +378,8 @@ def add_root(plan, skeleton, plane=None, up=UP):
     low, high = (positions - radii[:, None]).min(axis=0), (positions + radii[:, None]).max(axis=0)
     centre = (low + high) / 2.0
     head = centre - (centre @ up - float(np.min(positions @ up - radii))) * up
-    if plane is not None:  # a bone of the middle (along the floor when the plane stands on it)
-        head = plane.project(head)
+    if plane is not None:  # a bone of the middle: moved along the floor onto the plane
+        head = _onto_plane_along_floor(plane, head, up)
     tail = np.array(plan[0].head, dtype=float)
     if np.linalg.norm(tail - head) <= 1e-6 * max(float(np.linalg.norm(high - low)), 1e-300):
         tail = head + up * max(float(radii.max()), 1e-6 * float(np.linalg.norm(high - low)))
@@ -389,6 +392,19 @@ def add_root(plan, skeleton, plane=None, up=UP):
     children = [replace(spec, parent=ROOT_NAME) if spec.parent is None else spec
                 for spec in plan]
     return [root] + children
+
+
+def _onto_plane_along_floor(plane, point, up):
+    """`point` moved across `up` (along the floor) onto `plane` (a mirror plane that stands on
+    the floor: its normal along the floor); where the plane is turned from upright by more than
+    UPRIGHT_PLANE degrees (a cylinder mirrored across its own axis lies with that plane level),
+    left where it is: moving onto it would lift the point off the floor."""
+    normal = np.asarray(plane.normal, dtype=float)
+    across = normal - (normal @ up) * up
+    if np.linalg.norm(across) < np.cos(np.radians(UPRIGHT_PLANE)):
+        return np.asarray(point, dtype=float)
+    across /= np.linalg.norm(across)
+    return point - float(plane.signed(point)) / float(normal @ across) * across
 
 
 def deforms(kinds) -> np.ndarray:

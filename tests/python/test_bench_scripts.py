@@ -6,6 +6,7 @@ import os
 import subprocess
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import dcg
@@ -90,3 +91,16 @@ def test_rig_quality_before_names_every_rigged_character(meshes_dir):
     assert names, f"no rigged characters in {meshes_dir / 'rigged'}"
     assert names <= set(before), sorted(names - set(before))
     assert all(set(rq.METRICS) <= set(cds) for cds in before.values())
+
+
+def test_rig_quality_stands_each_character_on_its_files_floor():
+    import bench_rig_quality as rq
+
+    box = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+    standing_on_z = box * [1, 1, 2] + [0, 0, 2]  # lowest point z = 0
+    assert np.array_equal(rq.floor_up(standing_on_z), [0, 0, 1])
+    standing_on_y = box * [1, 2, 1] + [0, 2.0, 0]  # glTF's up: y = 0 (the cylinder's file)
+    assert np.array_equal(rq.floor_up(standing_on_y), [0, 1, 0])
+    flying = box * [2, 2, 1] + [0, 0, 1.2]  # above z = 0 but nearer it than the other planes
+    assert np.array_equal(rq.floor_up(flying), [0, 0, 1])
+    assert np.array_equal(rq.floor_up(box), [0, 0, 1])  # centred: Z first on ties
