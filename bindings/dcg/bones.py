@@ -89,7 +89,7 @@ ROOT_NAME = "root"
 #: The up direction, across which the root bone's floor lies (Blender's world +Z).
 UP = (0.0, 0.0, 1.0)
 #: The root bone's head moves onto the mirror plane along the floor when the plane stands
-#: within this many degrees of upright (`add_root`).
+#: within this many degrees of upright, else along the plane's normal (`add_root`).
 UPRIGHT_PLANE = 45.0
 #: A limb of the middle whose end lies off the mirror plane for at most this many radii (where
 #: it leaves the plane) of its length ends there instead (`_middle_ends`: spot's head on a horn).
@@ -366,9 +366,9 @@ def add_root(plan, skeleton, plane=None, up=UP):
     no vertex weights) that every bone without a parent gets as its parent (not connected).
     Its head lies on the floor across `up` (the lowest point of the skeleton's balls, each
     node's position less its radius) under the centre of the balls' bounding box, where a
-    standing character's origin is (moved onto `plane`, the plan's mirror plane, along its
-    normal when there is one); its tail at the first bone's head (the skeleton's root, the
-    pelvis of a humanoid), so that it stands upright under the body."""
+    standing character's origin is (moved onto `plane`, the plan's mirror plane, when there
+    is one: `_onto_plane_along_floor`); its tail at the first bone's head (the skeleton's
+    root, the pelvis of a humanoid), so that it stands upright under the body."""
     if not plan:
         return plan
     up = np.asarray(up, dtype=float).reshape(3)
@@ -378,7 +378,7 @@ def add_root(plan, skeleton, plane=None, up=UP):
     low, high = (positions - radii[:, None]).min(axis=0), (positions + radii[:, None]).max(axis=0)
     centre = (low + high) / 2.0
     head = centre - (centre @ up - float(np.min(positions @ up - radii))) * up
-    if plane is not None:  # a bone of the middle: moved along the floor onto the plane
+    if plane is not None:  # a bone of the middle
         head = _onto_plane_along_floor(plane, head, up)
     tail = np.array(plan[0].head, dtype=float)
     if np.linalg.norm(tail - head) <= 1e-6 * max(float(np.linalg.norm(high - low)), 1e-300):
@@ -395,14 +395,15 @@ def add_root(plan, skeleton, plane=None, up=UP):
 
 
 def _onto_plane_along_floor(plane, point, up):
-    """`point` moved across `up` (along the floor) onto `plane` (a mirror plane that stands on
-    the floor: its normal along the floor); where the plane is turned from upright by more than
-    UPRIGHT_PLANE degrees (a cylinder mirrored across its own axis lies with that plane level),
-    left where it is: moving onto it would lift the point off the floor."""
+    """`point` (on the floor) moved onto `plane`: along the floor (across `up`) when the plane
+    stands within UPRIGHT_PLANE degrees of upright, so that it stays on the floor too; else (a
+    plane that lies nearly level: a model lying on its side, a cylinder mirrored across its
+    middle) along the plane's normal, off the floor: a bone of the middle stays on the plane,
+    its own mirror image, which X-Axis Mirror and Paste Pose Flipped rely on."""
     normal = np.asarray(plane.normal, dtype=float)
     across = normal - (normal @ up) * up
     if np.linalg.norm(across) < np.cos(np.radians(UPRIGHT_PLANE)):
-        return np.asarray(point, dtype=float)
+        return plane.project(point)
     across /= np.linalg.norm(across)
     return point - float(plane.signed(point)) / float(normal @ across) * across
 

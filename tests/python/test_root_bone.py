@@ -36,26 +36,24 @@ def test_the_floor_lies_across_the_up_direction_given():
     root = bones.plan_bones(skeleton, up=(0.0, 1.0, 0.0))[0]
     assert np.allclose(root.head, [0.0, -0.1, 0.2])  # under the middle of the balls' box
     assert bones.plan_bones(skeleton, root_bone=False)[0].kind != "root"
-    # A body lying on its side (up along the mirror plane's normal: the plane lies level)
-    # keeps its root bone on the floor under its middle; moving it onto the plane would lift
-    # it into the body.
+    # A body lying on its side (up along the mirror plane's normal) keeps its root bone in
+    # the plane, a bone of the middle, rather than beside one half.
     root = bones.plan_bones(skeleton, up=(1.0, 0.0, 0.0))[0]
-    assert np.allclose(root.head, [-1.3, 0.0, 0.2])
+    assert np.allclose(root.head, [0.0, 0.0, 0.2])
 
 
-def test_a_shape_mirrored_across_a_level_plane_keeps_its_root_on_the_floor(meshes_dir):
-    # glTF-Blender-IO's skinned cylinder stands on y = 0 (glTF's up, Blender's +Z once
-    # imported); its skeleton mirrors across the level plane through its middle.
-    V, F = dcg.load_mesh(str(meshes_dir / "rigged" / "SkinnedCylinder.obj"))
-    V = np.asarray(V)
-    skeleton = dcg.extract_skeleton(V, F)
-    plane = bones.plan_plane(skeleton)
-    assert plane is not None and abs(plane.normal[1]) > 0.9  # level: across the axis
-    root = bones.plan_bones(skeleton, up=(0.0, 1.0, 0.0))[0]
-    height = float(np.ptp(V[:, 1]))
-    assert abs(root.head[1] - V[:, 1].min()) < 0.02 * height  # on the floor (was mid-height)
-    assert np.linalg.norm(root.head[[0, 2]]) < 0.02 * height  # under the middle of the cap
-    assert root.tail[1] > root.head[1] + 0.3 * height
+def test_a_tilted_mirror_plane_gets_the_root_on_the_floor_and_on_the_plane():
+    # The floor turned 20 degrees about y: the mirror plane x = 0 stands 20 degrees from
+    # upright. The root's head moves along the floor onto the plane (along the plane's normal
+    # it would sink below the floor).
+    skeleton = body()
+    angle = np.radians(20.0)
+    up = np.array([np.sin(angle), 0.0, np.cos(angle)])
+    root = bones.plan_bones(skeleton, up=up)[0]
+    positions, radii = np.asarray(skeleton.positions), np.asarray(skeleton.radii)
+    floor = float(np.min(positions @ up - radii))
+    assert abs(root.head @ up - floor) < 1e-9
+    assert abs(root.head[0]) < 1e-9
 
 
 def test_an_asymmetric_body_gets_its_root_onto_the_mirror_plane():
