@@ -367,7 +367,7 @@ def add_root(plan, skeleton, plane=None, up=UP):
     Its head lies on the floor across `up` (the lowest point of the skeleton's balls, each
     node's position less its radius) under the centre of the balls' bounding box, where a
     standing character's origin is (moved onto `plane`, the plan's mirror plane, when there
-    is one: `_onto_plane_along_floor`); its tail at the first bone's head (the skeleton's
+    is one: `_root_onto_plane`); its tail at the first bone's head (the skeleton's
     root, the pelvis of a humanoid), so that it stands upright under the body."""
     if not plan:
         return plan
@@ -379,7 +379,7 @@ def add_root(plan, skeleton, plane=None, up=UP):
     centre = (low + high) / 2.0
     head = centre - (centre @ up - float(np.min(positions @ up - radii))) * up
     if plane is not None:  # a bone of the middle
-        head = _onto_plane_along_floor(plane, head, up)
+        head = _root_onto_plane(plane, head, up)
     tail = np.array(plan[0].head, dtype=float)
     if np.linalg.norm(tail - head) <= 1e-6 * max(float(np.linalg.norm(high - low)), 1e-300):
         tail = head + up * max(float(radii.max()), 1e-6 * float(np.linalg.norm(high - low)))
@@ -394,7 +394,7 @@ def add_root(plan, skeleton, plane=None, up=UP):
     return [root] + children
 
 
-def _onto_plane_along_floor(plane, point, up):
+def _root_onto_plane(plane, point, up):
     """`point` (on the floor) moved onto `plane`: along the floor (across `up`) when the plane
     stands within UPRIGHT_PLANE degrees of upright, so that it stays on the floor too; else (a
     plane that lies nearly level: a model lying on its side, a cylinder mirrored across its
