@@ -80,8 +80,9 @@ def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAUL
     """(the bone plan of `skeleton`, warnings): the package's planner (dcg.bones.plan_bones)
     at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"; a warning when Mixamo's
     names were asked for a skeleton that is not humanoid), with a root bone on the floor
-    (world +Z up) when `root_bone`, and a warning when limbs of a shape that mirrors itself
-    did not pair (dcg.bones.unpaired_limbs)."""
+    (world +Z up) when `root_bone`, and warnings when limbs of a shape that mirrors itself
+    did not pair (dcg.bones.unpaired_limbs) and when paired bones mirror across a plane that
+    lies level (dcg.bones.lies_level: a model lying on its side)."""
     engine = _engine.require()
     plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower(),
                                    root_bone=bool(root_bone))  # up: Blender's +Z, the default
@@ -94,6 +95,13 @@ def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAUL
         warnings.append(f"the shape mirrors itself, but {unpaired} limbs did not pair (their "
                         "skeletons differ, e.g. one leg hangs from the hips, its mirror image "
                         "from the chest): they keep plain names and do not mirror each other")
+    sided = any(spec.name.endswith((".L", ".R")) for spec in plan)
+    if sided and engine.bones.lies_level(engine.bones.plan_plane(skeleton)):
+        warnings.append("the mirror plane lies level, as if the model lay on its side: the .L "
+                        "/ .R bones are its upper and lower halves"
+                        + (", and the root bone sits on that plane, off the floor" if root_bone
+                           else "") + "; stand the model upright and rig again for left and "
+                        "right")
     return plan, warnings
 
 

@@ -400,12 +400,25 @@ def _root_onto_plane(plane, point, up):
     plane that lies nearly level: a model lying on its side, a cylinder mirrored across its
     middle) along the plane's normal, off the floor: a bone of the middle stays on the plane,
     its own mirror image, which X-Axis Mirror and Paste Pose Flipped rely on."""
+    if lies_level(plane, up):
+        return plane.project(point)
     normal = np.asarray(plane.normal, dtype=float)
     across = normal - (normal @ up) * up
-    if np.linalg.norm(across) < np.cos(np.radians(UPRIGHT_PLANE)):
-        return plane.project(point)
     across /= np.linalg.norm(across)
     return point - float(plane.signed(point)) / float(normal @ across) * across
+
+
+def lies_level(plane, up=UP):
+    """Whether a mirror plane is turned more than UPRIGHT_PLANE degrees from upright across
+    `up`: a model lying on its side, or one that mirrors top to bottom (a cylinder). Its `.L`
+    / `.R` bones are then upper and lower ones and the root bone leaves the floor for the
+    plane (`add_root`); the add-on says so."""
+    if plane is None:
+        return False
+    up = np.asarray(up, dtype=float).reshape(3)
+    up = up / max(float(np.linalg.norm(up)), 1e-300)
+    normal = np.asarray(plane.normal, dtype=float)
+    return float(np.linalg.norm(normal - (normal @ up) * up)) < np.cos(np.radians(UPRIGHT_PLANE))
 
 
 def deforms(kinds) -> np.ndarray:

@@ -138,3 +138,16 @@ def test_a_mixamo_plans_root_bone_lies_on_the_plane_its_pairs_mirror_across(mesh
     plane = humanoid.plan_plane(skeleton)
     size = float(np.ptp(np.asarray(V), axis=0).max())
     assert abs(plane.signed(plan[0].head)) < 1e-9 * size
+
+
+def test_a_mirror_plane_lies_level_past_the_upright_limit():
+    from dcg.symmetry import Plane
+
+    def plane(degrees_from_upright):
+        angle = np.radians(degrees_from_upright)
+        return Plane(np.array([np.cos(angle), 0.0, np.sin(angle)]), 0.0, 0.0)
+
+    assert not bones.lies_level(plane(0.0)) and not bones.lies_level(plane(44.0))
+    assert bones.lies_level(plane(46.0)) and bones.lies_level(plane(90.0))
+    assert not bones.lies_level(None)
+    assert not bones.lies_level(plane(90.0), up=(1.0, 0.0, 0.0))  # upright across x
