@@ -244,58 +244,52 @@ def test_paste_pose_flipped_poses_the_mirror_image(rig):
         bpy.ops.object.mode_set(mode="OBJECT")
 
 
-def test_limbs_that_do_not_pair_on_a_symmetric_shape_are_warned_of(dcg):
-    # A body whose right leg hangs from the chest, the left from the hips (as Q_Horse's front
-    # legs do), on a shape that mirrors itself across x = 0: the rig says so.
+#: A stick body standing along z, mirrored across x = 0: hips (the root), chest, head, two
+#: legs from the hips and two arms from the chest (_stick_body).
+STICK = np.array([[0, 0, 0], [0, 0, 1], [0, 0, 1.6], [0.3, 0, -0.6], [0.3, 0, -1.2],
+                  [-0.3, 0, -0.6], [-0.3, 0, -1.2], [0.6, 0, 1], [1.2, 0, 1],
+                  [-0.6, 0, 1], [-1.2, 0, 1]], dtype=float)
+STICK_LINKS = [[0, 1], [1, 2], [0, 3], [3, 4], [0, 5], [5, 6], [1, 7], [7, 8], [1, 9], [9, 10]]
+
+
+def _stick_body(positions=STICK, links=STICK_LINKS, plane=(1.0, 0.0, 0.0, 0.0)):
+    """A skeleton-like object (what rigging.plan_bones reads) of STICK's nodes at `positions`,
+    linked by `links`, the shape's mirror plane `plane` (normal, offset)."""
     import types
 
-    from dcg_rig import rigging
-
-    positions = np.array([[0, 0, 0], [0, 0, 1], [0, 0, 1.6], [0.3, 0, -0.6], [0.3, 0, -1.2],
-                          [-0.3, 0, -0.6], [-0.3, 0, -1.2], [0.6, 0, 1], [1.2, 0, 1],
-                          [-0.6, 0, 1], [-1.2, 0, 1]], dtype=float)
-    links = np.array([[0, 1], [1, 2], [0, 3], [3, 4], [1, 5], [5, 6], [1, 7], [7, 8], [1, 9],
-                      [9, 10]])
-    skeleton = types.SimpleNamespace(
+    links = np.array(links)
+    return types.SimpleNamespace(
         positions=positions, links=links, polylines=[positions[link] for link in links],
         kinds=np.array(["joint", "joint", "end", "connection", "end", "connection", "end",
                         "connection", "end", "connection", "end"]),
-        radii=np.full(len(positions), 0.1), root=0, mirror_plane=np.array([1.0, 0, 0, 0]),
+        radii=np.full(len(positions), 0.1), root=0, mirror_plane=np.array(plane),
         mirror_error=1e-4)
-    plan, warnings = rigging.plan_bones(skeleton, 0.5, "DCG")
+
+
+def test_limbs_that_do_not_pair_on_a_symmetric_shape_are_warned_of(dcg):
+    # A body whose right leg hangs from the chest, the left from the hips (as Q_Horse's front
+    # legs do), on a shape that mirrors itself across x = 0: the rig says so.
+    from dcg_rig import rigging
+
+    links = list(STICK_LINKS)
+    links[4] = [1, 5]
+    plan, warnings = rigging.plan_bones(_stick_body(links=links), 0.5, "DCG")
     assert plan and any("2 limbs did not pair" in warning for warning in warnings)
-    skeleton.links[4] = [0, 5]  # both legs from the hips: they pair, nothing to say
-    skeleton.polylines[4] = positions[[0, 5]]
-    assert not rigging.plan_bones(skeleton, 0.5, "DCG")[1]
+    # Both legs from the hips: they pair, nothing to say.
+    assert not rigging.plan_bones(_stick_body(), 0.5, "DCG")[1]
 
 
 def test_a_model_lying_on_its_side_is_warned_of(dcg):
-    # A body with arms and legs paired across x = 0 stands up along z: nothing to say. Turned
-    # to lie on its side (its mirror plane level, across world z), its .L / .R bones are upper
-    # and lower ones and its root leaves the floor: the rig says so.
-    import types
-
+    # The stick body stands up along z: nothing to say. Turned to lie on its side (its mirror
+    # plane level, across world z), its .L / .R bones are upper and lower ones and its root
+    # leaves the floor: the rig says so.
     from dcg_rig import rigging
 
-    positions = np.array([[0, 0, 0], [0, 0, 1], [0, 0, 1.6], [0.3, 0, -0.6], [0.3, 0, -1.2],
-                          [-0.3, 0, -0.6], [-0.3, 0, -1.2], [0.6, 0, 1], [1.2, 0, 1],
-                          [-0.6, 0, 1], [-1.2, 0, 1]], dtype=float)
-    links = np.array([[0, 1], [1, 2], [0, 3], [3, 4], [0, 5], [5, 6], [1, 7], [7, 8], [1, 9],
-                      [9, 10]])
-
-    def body(points, plane):
-        return types.SimpleNamespace(
-            positions=points, links=links, polylines=[points[link] for link in links],
-            kinds=np.array(["joint", "joint", "end", "connection", "end", "connection", "end",
-                            "connection", "end", "connection", "end"]),
-            radii=np.full(len(points), 0.1), root=0, mirror_plane=np.array(plane),
-            mirror_error=1e-4)
-
-    plan, warnings = rigging.plan_bones(body(positions, [1.0, 0, 0, 0]), 0.5, "DCG")
+    plan, warnings = rigging.plan_bones(_stick_body(), 0.5, "DCG")
     assert any(spec.name.endswith(".L") for spec in plan) and not warnings
-    lying = positions[:, [1, 2, 0]]  # x -> z: the mirror plane z = 0
-    plan, warnings = rigging.plan_bones(body(lying, [0, 0, 1.0, 0]), 0.5, "DCG")
+    lying = _stick_body(STICK[:, [1, 2, 0]], plane=(0.0, 0.0, 1.0, 0.0))  # x -> z
+    plan, warnings = rigging.plan_bones(lying, 0.5, "DCG")
     assert any(spec.name.endswith(".L") for spec in plan)
     assert len(warnings) == 1 and "lies level" in warnings[0] and "root bone" in warnings[0]
-    warnings = rigging.plan_bones(body(lying, [0, 0, 1.0, 0]), 0.5, "DCG", root_bone=False)[1]
+    warnings = rigging.plan_bones(lying, 0.5, "DCG", root_bone=False)[1]
     assert len(warnings) == 1 and "root bone" not in warnings[0]
