@@ -282,9 +282,8 @@ def limb_polyline(skeleton, limb):
     points, nodes, segment_links, inner_radii = [positions[limb[0][1]]], [limb[0][1]], [], [np.nan]
     for link, start, stop, _ in limb:
         polyline = np.asarray(skeleton.polylines[link], dtype=float).reshape(-1, 3)
-        radii = np.full(len(polyline), np.nan) if measured is None else \
-            np.asarray(measured[link], dtype=float)
-        if len(radii) != len(polyline):
+        radii = np.asarray(() if measured is None else measured[link], dtype=float)
+        if len(radii) != len(polyline):  # none measured: the nodes' radii interpolate
             radii = np.full(len(polyline), np.nan)
         if int(skeleton.links[link][0]) != start:
             polyline, radii = polyline[::-1], radii[::-1]
@@ -402,10 +401,9 @@ def _root_onto_plane(plane, point, up):
     its own mirror image, which X-Axis Mirror and Paste Pose Flipped rely on."""
     if lies_level(plane, up):
         return plane.project(point)
-    normal = np.asarray(plane.normal, dtype=float)
-    across = normal - (normal @ up) * up
+    across = _normal_along_floor(plane, up)
     across /= np.linalg.norm(across)
-    return point - float(plane.signed(point)) / float(normal @ across) * across
+    return point - float(plane.signed(point)) / float(plane.normal @ across) * across
 
 
 def lies_level(plane, up=UP):
@@ -415,10 +413,17 @@ def lies_level(plane, up=UP):
     plane (`add_root`); the add-on says so."""
     if plane is None:
         return False
+    along_floor = float(np.linalg.norm(_normal_along_floor(plane, up)))
+    return along_floor < np.cos(np.radians(UPRIGHT_PLANE))
+
+
+def _normal_along_floor(plane, up):
+    """The part of the plane's (unit) normal across `up`: its length is the cosine of the
+    plane's angle from upright."""
     up = np.asarray(up, dtype=float).reshape(3)
     up = up / max(float(np.linalg.norm(up)), 1e-300)
     normal = np.asarray(plane.normal, dtype=float)
-    return float(np.linalg.norm(normal - (normal @ up) * up)) < np.cos(np.radians(UPRIGHT_PLANE))
+    return normal - (normal @ up) * up
 
 
 def deforms(kinds) -> np.ndarray:
