@@ -142,6 +142,7 @@ void bind_prongs(py::module_& m) {
       .field("mirror_twins", &ProngsView::mirror_twins)
       .field("fingers", &ProngsView::fingers)
       .field("midline", &ProngsView::midline)
+      .field("tails", &ProngsView::tails)
       .field("scale_function", &ProngsView::features, &F::scale, &dcg::ScaleFunction::values)
       .field("sources", &ProngsView::features, &F::scale, &dcg::ScaleFunction::sources)
       .field("source_weights", &ProngsView::features, &F::scale, &dcg::ScaleFunction::weights)

@@ -13,7 +13,7 @@ import pytest
 MESHES = Path(os.environ.get("DCG_MESHES", ""))
 #: The limbs each public mesh's rig names (the spine aside).
 LIMBS = {
-    "spot.obj": {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head"},
+    "spot.obj": {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head", "tail"},
     "cow.off": {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head", "tail"},
     "knight.off": {"arm.L", "arm.R", "leg.L", "leg.R", "head"},
 }

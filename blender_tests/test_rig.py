@@ -233,7 +233,7 @@ def test_tau_redraws_the_shown_preview_and_rig_binds_what_it_shows(spot, dcg):
     extractor = live.kept_for(spot.name).extractor
     ends_before = list(extractor.skeleton().kinds).count("end")
     per_sphere = _end_spheres_vertices() // ends_before
-    bpy.context.scene.dcg_rig.tau = 0.95  # the slider: spot's tail and head come out
+    bpy.context.scene.dcg_rig.tau = 0.95  # the slider: more of spot's peaks come out (7 ends)
     skeleton = extractor.skeleton()
     ends_after = list(skeleton.kinds).count("end")
     assert ends_after > ends_before

@@ -564,6 +564,9 @@ Prongs ProngHierarchy::prongs(double tau) const {
   // Fingers of a hand (see the class comment; cpp/src/prong_fingers.cpp).
   const std::vector<const Peak*> hand = fingers(tau, kept);
   kept.insert(kept.end(), hand.begin(), hand.end());
+  // A tail between a pair of limbs (cpp/src/prong_tails.cpp).
+  const std::vector<const Peak*> tail = tails(kept);
+  kept.insert(kept.end(), tail.begin(), tail.end());
   // A head's end on one of two horns moved to its middle (cpp/src/prong_midline.cpp).
   const int midline = move_to_midline(kept);
   std::stable_sort(kept.begin(), kept.end(),
@@ -573,6 +576,7 @@ Prongs ProngHierarchy::prongs(double tau) const {
   out.mirror_twins = static_cast<int>(twins.size());
   out.fingers = static_cast<int>(hand.size());
   out.midline = midline;
+  out.tails = static_cast<int>(tail.size());
   const auto k = static_cast<Eigen::Index>(kept.size());
   out.vertices.resize(k);
   out.positions.resize(k, 3);

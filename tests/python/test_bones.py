@@ -610,7 +610,8 @@ def test_an_exactly_symmetric_shape_pairs_its_limbs_across_its_own_plane(meshes_
 def test_spots_head_ends_in_its_muzzle_on_the_mirror_plane(meshes_dir):
     """The default model's head bone: its highest point is a horn, yet the head's end is the
     muzzle's (the engine's midline move, Prongs.midline), on the plane x = 0, at the front
-    (spot looks along -Z), ahead of and below the horns; one end bone in the middle, the
+    (spot looks along -Z), ahead of and below the horns; two end bones in the middle, the
+    head's and the tail's (Prongs.tails: the flap at the rump, behind every hoof), the
     hooves' in pairs."""
     V, F = dcg.load_mesh(meshes_dir / "spot.obj")
     skeleton = shared_skeleton(V, F, "spot.obj")
@@ -618,8 +619,14 @@ def test_spots_head_ends_in_its_muzzle_on_the_mirror_plane(meshes_dir):
     size = float(np.linalg.norm(np.ptp(V, axis=0)))
     ends = [i for i, kind in enumerate(plan["kinds"]) if kind == "end"]
     middle = [i for i in ends if not plan["names"][i].endswith((".L", ".R"))]
-    assert len(ends) == 5 and len(middle) == 1, plan["names"]
-    tip = plan["tails"][middle[0]]
+    assert len(ends) == 6 and len(middle) == 2, plan["names"]
+    head, tail = sorted(middle, key=lambda i: plan["tails"][i][2])
+    hooves = [plan["tails"][i] for i in ends if i not in middle]
+    back = plan["tails"][tail]
+    assert abs(back[0]) < 1e-3 * size
+    assert back[2] > max(h[2] for h in hooves) + 0.05 * size  # behind the hind legs
+    assert back[1] > max(h[1] for h in hooves) + 0.15 * size  # at the rump, not at the ground
+    tip = plan["tails"][head]
     assert abs(tip[0]) < 1e-3 * size
     horn = V[np.argmax(V[:, 1])]  # its highest vertex, a horn's tip
     assert tip[2] < horn[2] - 0.03 * size  # ahead of the horns (not between them)

@@ -110,7 +110,7 @@ def test_without_a_mirror_plane_tips_are_limbs():
 
 
 @pytest.mark.parametrize("name, chains", [
-    ("spot.obj", {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head"}),
+    ("spot.obj", {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head", "tail"}),
     ("cow.off", {"front_leg.L", "front_leg.R", "hind_leg.L", "hind_leg.R", "head", "tail"}),
     ("knight.off", {"arm.L", "arm.R", "leg.L", "leg.R", "head"}),
     # Its fingers (the engine's Prongs.fingers) and the hand's own end fan from one node.

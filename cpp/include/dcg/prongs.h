@@ -89,6 +89,8 @@ struct Prongs {
   /// Of those, prongs moved from one of a pair (a horn, an ear) to the mirror plane between
   /// them (see ProngHierarchy).
   int midline = 0;
+  /// Of those, prongs kept as a tail: a pointed tip on the mirror plane (see ProngHierarchy).
+  int tails = 0;
 };
 
 /// The watershed of f, done once: every peak with its ratio. Re-thresholding is cheap.
@@ -122,6 +124,20 @@ struct Prongs {
 /// mirror twins): to the strongest other peak of its region on that plane (within kMidlinePlane
 /// of half the pair's distance from it) whose ratio is below kMidlineRatio, a muzzle or a
 /// snout. Without one it stays where it is.
+///
+/// Tails: a small tail is a weak peak (spot's, a flap at the rump: ratio 0.973), as weak as the
+/// middle of a block's edge (fertility.off's base: 0.966). What tells them apart is where it
+/// stands and its shape: between a pair of limbs, on their mirror plane, and pointed. A peak is
+/// also a prong, at any tau, when its ratio is below kMidlineRatio, f at it is at least the mean
+/// of f (an extremity, not a dimple of the body), its region ended in a prong's region that has a
+/// mirror twin among the prongs (f within kTwinValue, the plane halfway between the two a mirror
+/// plane of the whole mesh, as for mirror twins), it stands at least kTwinLength times the mean
+/// of f from that prong's peak (not a bump beside a paw), it lies within kTailPlane diagonals of
+/// that plane, and some disc around it (along the edges) of at most kTailRadius diagonals holds at
+/// least kTailTip full turns of curvature: a point, not a ridge (Gauss-Bonnet). A nose
+/// ends in the head's region, and the head has no twin: it stays out (homer.obj); so do a
+/// cow's teats (off the plane) and a scan whose halves mirror each other too loosely
+/// (horse.ply's tail stub).
 class ProngHierarchy {
  public:
   ProngHierarchy() = default;
@@ -148,6 +164,9 @@ class ProngHierarchy {
   static constexpr double kMidlineRatio = 0.98;
   static constexpr double kMidlinePlane = 0.25;
   static constexpr int kMidlineTwinTests = 4;  // mirror tests per prong (1000 samples each)
+  static constexpr double kTailPlane = 0.02;
+  static constexpr double kTailRadius = 0.04;
+  static constexpr double kTailTip = 0.25;
   /// True when the cap {f >= tau * max f} around the global maximum has one boundary loop.
   bool global_cap_is_disk(double tau) const;
 
@@ -157,6 +176,8 @@ class ProngHierarchy {
   bool mirrors_mesh(int a, int b) const;  // the plane halfway between a and b mirrors it
   // The peaks past tau kept as fingers (see the class comment); `kept`: the prongs so far.
   std::vector<const Peak*> fingers(double tau, const std::vector<const Peak*>& kept) const;
+  // The peaks past tau kept as tails (see the class comment); `kept`: the prongs so far.
+  std::vector<const Peak*> tails(const std::vector<const Peak*>& kept) const;
   // The prongs of `kept` moved to the middle (see the class comment), in place; how many moved.
   int move_to_midline(std::vector<const Peak*>& kept) const;
   // The vertex of the prong (in `prong_vertices`) whose region `q`'s region ended in, following
