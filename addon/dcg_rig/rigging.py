@@ -78,31 +78,16 @@ def reusable_prepared(mesh_obj, prepared):
 
 def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAULTS["root_bone"]):
     """(the bone plan of `skeleton`, warnings): the package's planner (dcg.bones.plan_bones)
-    at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"; a warning when Mixamo's
-    names were asked for a skeleton that is not humanoid), with a root bone on the floor
-    (world +Z up) when `root_bone`, and warnings when limbs of a shape that mirrors itself
-    did not pair (dcg.bones.unpaired_limbs) and when paired bones mirror across a plane that
-    lies level (dcg.bones.lies_level: a model lying on its side)."""
+    at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"), with a root bone on the floor
+    (world +Z up) when `root_bone`, and what the user should be told of it
+    (dcg.rig_warnings.plan_warnings: the fallback skeleton, Mixamo's names asked of a skeleton
+    that is not humanoid, limbs of a shape that mirrors itself that did not pair, paired bones
+    mirrored across a plane that lies level); `dcg batch` records the same."""
     engine = _engine.require()
     plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower(),
                                    root_bone=bool(root_bone))  # up: Blender's +Z, the default
-    warnings = []
-    if bone_names == "MIXAMO" and not engine.humanoid.is_mixamo(plan):
-        warnings.append("the skeleton is not humanoid (one head, two arms, two legs, upright "
-                        "and symmetric): kept the descriptive bone names")
-    unpaired = engine.bones.unpaired_limbs(skeleton)
-    if unpaired:
-        warnings.append(f"the shape mirrors itself, but {unpaired} limbs did not pair (their "
-                        "skeletons differ, e.g. one leg hangs from the hips, its mirror image "
-                        "from the chest): they keep plain names and do not mirror each other")
-    sided = any(spec.name.endswith((".L", ".R")) for spec in plan)
-    if sided and engine.bones.lies_level(engine.bones.plan_plane(skeleton)):
-        warnings.append("the mirror plane lies level, as if the model lay on its side: the .L "
-                        "/ .R bones are its upper and lower halves"
-                        + (", and the root bone sits on that plane, off the floor" if root_bone
-                           else "") + "; stand the model upright and rig again for left and "
-                        "right")
-    return plan, warnings
+    return plan, engine.rig_warnings.plan_warnings(skeleton, plan, bone_names.lower(),
+                                                   bool(root_bone))
 
 
 def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS["weights"],
@@ -118,9 +103,10 @@ def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS[
     armature is deleted and the earlier binding (vertex groups, modifiers, parent) is
     restored, then the exception propagates.
     """
-    warnings = []
     if plan is None:
         plan, warnings = plan_bones(skeleton, bone_detail, bone_names, root_bone)
+    else:  # the edited preview's bones: only the skeleton's own warning applies
+        warnings = [text for text in [fallback_warning(skeleton.method)] if text]
     if not plan:
         raise RigError(f"the skeleton of {mesh_obj.name} has no bones "
                        f"({len(skeleton.positions)} nodes, {len(skeleton.links)} links)")
@@ -143,15 +129,12 @@ def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS[
         armature.remove_armature(old)
     preview.clear_preview()
     warnings += disable_foreign_armatures(mesh_obj, arm_obj)
-    fallback = fallback_warning(skeleton.method)
-    return RigResult(arm_obj, len(plan), ([fallback] if fallback else []) + warnings)
+    return RigResult(arm_obj, len(plan), warnings)
 
 
 def fallback_warning(method):
     """What to tell the user when the engine gave its fallback skeleton (method
-    "interim_graph (fallback: <reason>)"), or None for a DCG skeleton."""
-    if not method.startswith("interim_graph"):
-        return None
-    reason = method.partition("fallback:")[2].rstrip(")").strip() or "unknown reason"
-    return (f"the DCG skeleton failed ({reason}): rigged with the fallback skeleton, a tree "
-            "of the domain points that may cut corners; check the bones")
+    "interim_graph (fallback: <reason>)"), or None for a DCG skeleton or without the engine
+    (dcg.rig_warnings.fallback_warning)."""
+    engine = _engine.load()
+    return engine.rig_warnings.fallback_warning(method) if engine else None

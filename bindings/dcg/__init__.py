@@ -56,7 +56,7 @@ def _check_numpy(pybind11_version: Tuple[int, int], numpy_version: str) -> None:
 
 _check_numpy(getattr(_core, "pybind11_version", (2, 12)), np.__version__)
 
-from . import bones, humanoid, rolls, symmetry  # noqa: E402,F401  (the bone planner's parts)
+from . import bones, humanoid, rig_warnings, rolls, symmetry  # noqa: E402,F401  (bone planner)
 from .options import OPTIONS, SKELETON_OPTIONS, OptionInfo, normalize_options  # noqa: E402
 from .skeleton import FORMAT, Skeleton  # noqa: E402
 from .weights import BoneHeat, SkinWeights, skin_weights  # noqa: E402

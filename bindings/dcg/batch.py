@@ -11,7 +11,8 @@ under OUT_DIR at the input's relative path plus a suffix:
                         them, vertex weights
     <rel>.glb           with --glb: the rigged mesh made by the add-on's headless Blender CLI
                         (the installed add-on's, or the one given: see dcg.batch_blender)
-    index.jsonl         one record per model: path, status ok/error, message, seconds, faces...
+    index.jsonl         one record per model: path, status ok/error, message, warnings (what
+                        the add-on would warn of: dcg.rig_warnings), seconds, faces...
 
 Division of work: the Dask workers read the inputs (IN_DIR must be readable at the same path on
 every worker), run the engine (and Blender) and send the output files back as bytes; the process

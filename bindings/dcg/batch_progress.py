@@ -43,6 +43,8 @@ class Progress:
         else:
             status = "ok" if record.get("status") == "ok" else "FAILED"
             detail = f" ({record['message']})" if record.get("message") else ""
+            warned = len(record.get("warnings", []))
+            detail += f" ({warned} warning{'s' if warned != 1 else ''})" if warned else ""
             self.stream.write(f"[{counts}] {status} {record['path']} "
                               f"{record.get('seconds', 0):.2f} s{detail}; {tail}\n")
         self.stream.flush()
@@ -66,6 +68,7 @@ class Summary:
     rig_seconds: float = 0.0
     workers: int = 0
     failures: List[tuple] = field(default_factory=list)
+    warned: List[tuple] = field(default_factory=list)  # (path, [warnings]) of ok models
 
     @property
     def rate(self) -> float:
@@ -76,6 +79,8 @@ class Summary:
         """Count a model's record as ok or failed."""
         if record.get("status") == "ok":
             self.ok += 1
+            if record.get("warnings"):
+                self.warned.append((record["path"], record["warnings"]))
         else:
             self.failed += 1
             self.failures.append((record["path"], record.get("message", "")))
@@ -90,4 +95,11 @@ class Summary:
         lines += [f"  failed: {path}: {message}" for path, message in self.failures[:20]]
         if len(self.failures) > 20:
             lines.append(f"  ... and {len(self.failures) - 20} more (see {INDEX_NAME})")
+        if self.warned:
+            lines.append(f"{len(self.warned)} of the ok models have warnings (index.jsonl's "
+                         f"\"warnings\"):")
+            lines += [f"  warning: {path}: {text}" for path, texts in self.warned[:20]
+                      for text in texts]
+            if len(self.warned) > 20:
+                lines.append(f"  ... and {len(self.warned) - 20} more models (see {INDEX_NAME})")
         return "\n".join(lines)

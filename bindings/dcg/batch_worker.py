@@ -16,6 +16,7 @@ import numpy as np
 from .batch_blender import read_with_blender, rig_with_blender
 from .batch_jobs import BLENDER_FORMATS, BatchError, Job, file_up
 from .bones import BONE_DETAIL, BONE_NAMES, ROOT_BONE, UP, bone_arrays, deforms, plan_bones
+from .rig_warnings import plan_warnings
 
 
 class _Deadline:
@@ -38,7 +39,8 @@ def _package():
 
 def weights_npz(V, F, skeleton, prepared=None, progress=None,
                 bone_detail: float = BONE_DETAIL, options=None,
-                bone_names: str = BONE_NAMES, root_bone: bool = ROOT_BONE, up=UP) -> tuple:
+                bone_names: str = BONE_NAMES, root_bone: bool = ROOT_BONE, up=UP,
+                plan=None) -> tuple:
     """The .weights.npz bytes and the weights status: "ok", or "unavailable: why".
 
     The file holds the bones the add-on makes of `skeleton` (dcg.bones.plan_bones at
@@ -50,9 +52,12 @@ def weights_npz(V, F, skeleton, prepared=None, progress=None,
     the status is "ok", weights: #V x #B float32, the weights of the input's vertices (in
     load_mesh order) per bone, from dcg.skin_weights (rows sum to 1; the root bone's column is
     zero: it deforms nothing). No weights are made up when it is missing.
-    `options`: dcg.OPTIONS values (the weights' own used).
+    `options`: dcg.OPTIONS values (the weights' own used). `plan`: those bones when the caller
+    planned them already (then bone_detail, bone_names, root_bone and up are not read).
     """
-    bones = bone_arrays(plan_bones(skeleton, bone_detail, bone_names, root_bone=root_bone, up=up))
+    if plan is None:
+        plan = plan_bones(skeleton, bone_detail, bone_names, root_bone=root_bone, up=up)
+    bones = bone_arrays(plan)
     skin_weights = getattr(_package(), "skin_weights", None)
     W = None
     if skin_weights is None:
@@ -87,9 +92,11 @@ def _rig_files(job: Job, record: Dict[str, Any], deadline: _Deadline, tmp: str):
     extractor = dcg.Extractor(V, F, deadline, **job.options)
     skeleton = extractor.skeleton()
     files["json"] = skeleton.to_json().encode("utf-8")
+    up = file_up(job.path)
+    plan = plan_bones(skeleton, job.bone_detail, job.bone_names, root_bone=job.root_bone, up=up)
+    record["warnings"] = plan_warnings(skeleton, plan, job.bone_names, job.root_bone, up)
     files["weights"], record["weights"] = weights_npz(
-        V, F, skeleton, extractor.prepare(), deadline, job.bone_detail, job.options,
-        job.bone_names, job.root_bone, file_up(job.path))
+        V, F, skeleton, extractor.prepare(), deadline, options=job.options, plan=plan)
     record.update(nodes=skeleton.node_count, links=int(len(skeleton.links)),
                   genus=skeleton.genus, repaired=skeleton.repaired, method=skeleton.method,
                   engine_seconds=round(skeleton.timings.get("total", 0.0), 4))

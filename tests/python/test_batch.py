@@ -245,6 +245,34 @@ def test_rig_model_reports_errors_and_timeouts_as_records(tmp_path, repo):
     assert late["record"]["status"] == "error" and "timed out" in late["record"]["message"]
 
 
+def test_a_record_carries_the_warnings_the_addon_would_give(tmp_path, repo):
+    """The add-on warns of a model lying on its side and of Mixamo names asked of a body that
+    is not humanoid; a batch run is not silent about them either: each record's "warnings"
+    (dcg.rig_warnings), the progress line and the summary. Spot's OBJ stands (+Y up): no
+    warning; the same mesh turned onto its side (x and y swapped: its mirror plane level)
+    gets one."""
+    V, F = dcg.load_mesh(repo / "data" / "spot.obj")
+    write_obj(tmp_path / "side.obj", V[:, [1, 0, 2]], F)
+    standing = batch.rig_model(batch.Job("spot.obj", str(repo / "data" / "spot.obj"), FAST))
+    assert standing["record"]["status"] == "ok" and standing["record"]["warnings"] == []
+    lying = batch.rig_model(batch.Job("side.obj", str(tmp_path / "side.obj"), FAST))
+    assert [w for w in lying["record"]["warnings"] if "lies level" in w], lying["record"]
+    named = batch.rig_model(batch.Job("spot.obj", str(repo / "data" / "spot.obj"), FAST,
+                                      bone_names="mixamo"))
+    assert [w for w in named["record"]["warnings"] if "not humanoid" in w], named["record"]
+
+    summary = batch.Summary(found=2)
+    for result in (standing, lying):
+        summary.count(result["record"])
+    assert summary.ok == 2 and summary.warned == [("side.obj", lying["record"]["warnings"])]
+    assert "1 of the ok models have warnings" in summary.text()
+    assert "warning: side.obj: the mirror plane lies level" in summary.text()
+    stream = io.StringIO()
+    progress = batch.Progress(2, stream)
+    progress.update(lying["record"])
+    assert "ok side.obj" in stream.getvalue() and "warning" in stream.getvalue()
+
+
 def test_find_models_skips_hidden_files_and_the_output_inside(tmp_path):
     write_off(tmp_path / "a.off", *cube())
     write_off(tmp_path / ".hidden.off", *cube())

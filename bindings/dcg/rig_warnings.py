@@ -1,0 +1,64 @@
+"""What a user of a rig should be told about it: the sentences the add-on shows after Rig with
+DCG and Preview Skeleton, and that `dcg batch` records for each model (index.jsonl's
+"warnings"), so that a rig worse than asked is never silent in either (no `bpy`).
+
+    plan = dcg.bones.plan_bones(skeleton, names="mixamo")
+    for text in dcg.rig_warnings.plan_warnings(skeleton, plan, names="mixamo"):
+        print("warning:", text)
+"""
+
+from __future__ import annotations
+
+from typing import List, Optional
+
+from .bones import BONE_NAMES, ROOT_BONE, UP, lies_level, plan_plane, unpaired_limbs
+
+
+def fallback_warning(method: str) -> Optional[str]:
+    """The warning for the engine's fallback skeleton (Skeleton.method
+    "interim_graph (fallback: <reason>)"), or None for a DCG skeleton."""
+    if not is_fallback(method):
+        return None
+    reason = method.partition("fallback:")[2].rstrip(")").strip() or "unknown reason"
+    return (f"the DCG skeleton failed ({reason}): rigged with the fallback skeleton, a tree "
+            "of the domain points that may cut corners; check the bones")
+
+
+def is_fallback(method: str) -> bool:
+    """Whether Skeleton.method names the fallback skeleton."""
+    return method.startswith("interim_graph")
+
+
+def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROOT_BONE,
+                  up=UP) -> List[str]:
+    """The warnings of `plan`, dcg.bones.plan_bones(skeleton, names=names,
+    root_bone=root_bone, up=up), in this order, each a sentence without its full stop:
+
+    - the fallback skeleton (`fallback_warning`);
+    - Mixamo's names asked of a skeleton that is not humanoid (dcg.humanoid.is_mixamo);
+    - limbs of a shape that mirrors itself that did not pair (dcg.bones.unpaired_limbs);
+    - paired bones mirrored across a plane that lies level (dcg.bones.lies_level across `up`:
+      a model lying on its side), the root bone then on that plane when `root_bone`.
+    """
+    from .humanoid import is_mixamo  # humanoid plans with dcg.bones, which this module reads
+
+    warnings = []
+    fallback = fallback_warning(getattr(skeleton, "method", "dcg"))
+    if fallback:
+        warnings.append(fallback)
+    if names.lower() == "mixamo" and not is_mixamo(plan):
+        warnings.append("the skeleton is not humanoid (one head, two arms, two legs, upright "
+                        "and symmetric): kept the descriptive bone names")
+    unpaired = unpaired_limbs(skeleton)
+    if unpaired:
+        warnings.append(f"the shape mirrors itself, but {unpaired} limbs did not pair (their "
+                        "skeletons differ, e.g. one leg hangs from the hips, its mirror image "
+                        "from the chest): they keep plain names and do not mirror each other")
+    sided = any(spec.name.endswith((".L", ".R")) for spec in plan)
+    if sided and lies_level(plan_plane(skeleton), up):
+        warnings.append("the mirror plane lies level, as if the model lay on its side: the .L "
+                        "/ .R bones are its upper and lower halves"
+                        + (", and the root bone sits on that plane, off the floor" if root_bone
+                           else "") + "; stand the model upright and rig again for left and "
+                        "right")
+    return warnings
