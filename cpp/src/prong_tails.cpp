@@ -4,7 +4,8 @@
 // Implementation notes:
 // - The cheap tests come first (ratio, f, the prong its region ended in, that prong's twin, the
 //   plane); the mirror test (a thousand nearest-vertex queries) runs once per pair of prongs;
-//   the tip test last.
+//   the tip test last, for the strongest kMaxTipTests peaks that get that far (a scan's noise
+//   adds many weak peaks).
 // - The tip test is Gauss-Bonnet's: the angle deficits (2 pi less the angles at a vertex) of
 //   the vertices of a geodesic disc add up to the curvature the disc holds: near a full turn for
 //   the point of a cone, 0 for a ridge or a flat side, whatever the mesh's resolution. A small
@@ -79,10 +80,12 @@ std::vector<const Peak*> ProngHierarchy::tails(const std::vector<const Peak*>& k
       }
     return twin_of[p.vertex] = found;
   };
+  constexpr int kMaxTipTests = 8;  // the strongest that get that far; each costs a Dijkstra
   std::vector<const Peak*> out;
   std::vector<double> angles;  // each vertex's, once a peak gets that far
+  int tip_tests = 0;
   for (const Peak& q : peaks_) {
-    if (!(q.ratio < kMidlineRatio)) break;  // sorted by ratio
+    if (!(q.ratio < kMidlineRatio) || tip_tests >= kMaxTipTests) break;  // sorted by ratio
     if (q.global || prong_vertices.count(q.vertex) || q.value < mean) continue;
     const auto owner = peak_at_.find(region_prong(q, prong_vertices));
     if (owner == peak_at_.end() || !prong_vertices.count(owner->first)) continue;
@@ -94,6 +97,7 @@ std::vector<const Peak*> ProngHierarchy::tails(const std::vector<const Peak*>& k
     const Eigen::Vector3d normal = (a - b).normalized();
     if (std::abs(normal.dot(at - (a + b) / 2)) > kTailPlane * diagonal) continue;
     if (angles.empty()) angles = vertex_angles(mesh_);
+    ++tip_tests;
     if (most_turns(mesh_, angles, q.vertex, kTailRadius * diagonal) >= kTailTip) out.push_back(&q);
   }
   return out;
