@@ -366,8 +366,11 @@ def add_root(plan, skeleton, plane=None, up=UP):
     Its head lies on the floor across `up` (the lowest point of the skeleton's balls, each
     node's position less its radius) under the centre of the balls' bounding box, where a
     standing character's origin is (moved onto `plane`, the plan's mirror plane, when there
-    is one: `_root_onto_plane`); its tail at the first bone's head (the skeleton's
-    root, the pelvis of a humanoid), so that it stands upright under the body."""
+    is one: `_root_onto_plane`; not onto a plane that lies level when no bone is sided, since
+    leaving the floor only serves the mirror tools, which pair .L / .R bones: a cylinder
+    mirrored across its middle keeps its root on the floor); its tail at the first bone's head
+    (the skeleton's root, the pelvis of a humanoid), so that it stands upright under the
+    body."""
     if not plan:
         return plan
     up = np.asarray(up, dtype=float).reshape(3)
@@ -377,7 +380,8 @@ def add_root(plan, skeleton, plane=None, up=UP):
     low, high = (positions - radii[:, None]).min(axis=0), (positions + radii[:, None]).max(axis=0)
     centre = (low + high) / 2.0
     head = centre - (centre @ up - float(np.min(positions @ up - radii))) * up
-    if plane is not None:  # a bone of the middle
+    sided = any(spec.name.endswith((".L", ".R")) for spec in plan)
+    if plane is not None and (sided or not lies_level(plane, up)):  # a bone of the middle
         head = _root_onto_plane(plane, head, up)
     tail = np.array(plan[0].head, dtype=float)
     if np.linalg.norm(tail - head) <= 1e-6 * max(float(np.linalg.norm(high - low)), 1e-300):

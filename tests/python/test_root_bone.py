@@ -56,6 +56,25 @@ def test_a_tilted_mirror_plane_gets_the_root_on_the_floor_and_on_the_plane():
     assert abs(root.head[0]) < 1e-9
 
 
+def test_a_cylinder_mirrored_across_its_middle_keeps_its_root_on_the_floor(meshes_dir):
+    """SkinnedCylinder (glTF's test rig: radius 1, 4 tall, standing on y = 0) mirrors top to
+    bottom across a plane through its middle that lies level, and none of its bones is sided:
+    no mirror tool needs the root on that plane, so it stays on the floor under the cylinder,
+    where its artist's root joint is (with sided bones it would leave the floor: above)."""
+    path = meshes_dir / "rigged" / "SkinnedCylinder.obj"
+    if not path.is_file():
+        pytest.skip(f"{path} not found")
+    V, F = dcg.load_mesh(path)
+    skeleton = dcg.extract_skeleton(V, F)
+    up = (0.0, 1.0, 0.0)
+    assert bones.lies_level(bones.plan_plane(skeleton), up)
+    plan = bones.plan_bones(skeleton, up=up)
+    assert not any(spec.name.endswith((".L", ".R")) for spec in plan)
+    root = plan[0]
+    assert root.kind == "root" and abs(root.head[1]) < 0.05  # on the floor, not at y = 2
+    assert np.hypot(root.head[0], root.head[2]) < 0.1       # under the middle
+
+
 def test_an_asymmetric_body_gets_its_root_onto_the_mirror_plane():
     skeleton = body(lean=0.05, arm_drop=0.05)  # the plane stays x = 0 (the limbs' fit)
     root = bones.plan_bones(skeleton)[0]
