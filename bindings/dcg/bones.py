@@ -368,9 +368,12 @@ def add_root(plan, skeleton, plane=None, up=UP):
     standing character's origin is (moved onto `plane`, the plan's mirror plane, when there
     is one: `_root_onto_plane`; not onto a plane that lies level when no bone is sided, since
     leaving the floor only serves the mirror tools, which pair .L / .R bones: a cylinder
-    mirrored across its middle keeps its root on the floor); its tail at the first bone's head
-    (the skeleton's root, the pelvis of a humanoid), so that it stands upright under the
-    body."""
+    mirrored across its middle keeps its root on the floor). Its tail stands straight up
+    from it, as high as the first bone's head (the skeleton's root, the pelvis of a humanoid;
+    a snake's is its head), so that turning the root about its own axis turns the body about
+    the vertical; up the plane's steepest line when it is on a plane a little off upright (it
+    stays its own mirror image); on a level plane with sided bones (a model lying on its side)
+    the tail is the skeleton's root itself, which is on the plane."""
     if not plan:
         return plan
     up = np.asarray(up, dtype=float).reshape(3)
@@ -381,9 +384,17 @@ def add_root(plan, skeleton, plane=None, up=UP):
     centre = (low + high) / 2.0
     head = centre - (centre @ up - float(np.min(positions @ up - radii))) * up
     sided = any(spec.name.endswith((".L", ".R")) for spec in plan)
-    if plane is not None and (sided or not lies_level(plane, up)):  # a bone of the middle
+    level = plane is not None and lies_level(plane, up)
+    middle = plane is not None and (sided or not level)  # a bone of the middle, on the plane
+    if middle:
         head = _root_onto_plane(plane, head, up)
-    tail = np.array(plan[0].head, dtype=float)
+    top = np.array(plan[0].head, dtype=float)
+    if middle and level:  # lying on its side: toward the skeleton's root, on the plane too
+        tail = top
+    else:  # as steep as the plane it stays on lets it: straight up when that stands upright
+        rise = up - float(up @ plane.normal) * plane.normal if middle else up
+        rise = rise / max(float(np.linalg.norm(rise)), 1e-300)
+        tail = head + rise * float((top - head) @ up) / float(rise @ up)
     if np.linalg.norm(tail - head) <= 1e-6 * max(float(np.linalg.norm(high - low)), 1e-300):
         tail = head + up * max(float(radii.max()), 1e-6 * float(np.linalg.norm(high - low)))
     side, frame_up = rolls.skeleton_frame(positions, plane)

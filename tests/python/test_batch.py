@@ -208,11 +208,15 @@ def test_the_npz_holds_the_bones_the_addon_makes(repo, bone_detail):
         assert np.array_equal(npz["bone_rolls"], [spec.roll for spec in plan])
         assert npz["weights"].shape == (len(V), len(plan))
         # One tree chained away from the root bone: parents first, each head at its parent's
-        # tail; the root bone (first, the only one without a parent) weights no vertex.
+        # tail but the root bone's children (it stands straight up under the body, they hang
+        # from it at the skeleton's root, as high as its tail); the root bone (first, the only
+        # one without a parent) weights no vertex.
         for b, parent in enumerate(npz["bone_parents"]):
             assert parent < b
-            if parent >= 0:
+            if parent > 0:
                 assert np.allclose(npz["bone_heads"][b], npz["bone_tails"][parent])
+            elif parent == 0:
+                assert np.isclose(npz["bone_heads"][b][2], npz["bone_tails"][0][2])  # up +Z
         assert npz["bone_kinds"][0] == "root" and list(npz["bone_parents"]).count(-1) == 1
         assert not npz["weights"][:, 0].any() and np.allclose(npz["weights"].sum(axis=1), 1)
         # Its children start at the root node, moved onto the mirror plane (spot mirrors

@@ -75,6 +75,36 @@ def test_a_cylinder_mirrored_across_its_middle_keeps_its_root_on_the_floor(meshe
     assert np.hypot(root.head[0], root.head[2]) < 0.1       # under the middle
 
 
+def test_the_root_bone_stands_straight_up_even_under_a_body_off_its_centre(meshes_dir):
+    """Q_Snake rears up with its head, the skeleton's root, over one end of its coils: the root
+    bone still stands straight up from the floor under the middle (turning it about its axis
+    turns the snake about the vertical), as high as the head, not leaning over to it."""
+    path = meshes_dir / "rigged" / "Q_Snake.obj"
+    if not path.is_file():
+        pytest.skip(f"{path} not found")
+    V, F = dcg.load_mesh(path)
+    skeleton = dcg.extract_skeleton(V, F)
+    plan = bones.plan_bones(skeleton)  # up +Z
+    root, top = plan[0], np.asarray(plan[1].head)
+    along = root.tail - root.head
+    assert np.linalg.norm(along[:2]) < 1e-3 * along[2]  # up its mirror plane, off by 0.03 deg
+    assert np.isclose(root.tail[2], top[2])
+    assert np.linalg.norm((top - root.head)[:2]) > 0.1 * np.ptp(V[:, 2])  # the head is off it
+
+
+def test_a_root_on_a_tilted_mirror_plane_rises_up_the_plane_and_stays_on_it():
+    # The floor turned 20 degrees about y (as above): the root bone cannot stand straight up
+    # and stay its own mirror image; it rises up the plane's steepest line, as high as the hips.
+    skeleton = body()
+    angle = np.radians(20.0)
+    up = np.array([np.sin(angle), 0.0, np.cos(angle)])
+    root = bones.plan_bones(skeleton, up=up)[0]
+    assert abs(root.head[0]) < 1e-9 and abs(root.tail[0]) < 1e-9  # on the plane x = 0
+    assert np.isclose(root.tail @ up, np.asarray(skeleton.positions)[skeleton.root] @ up)
+    along = (root.tail - root.head) / np.linalg.norm(root.tail - root.head)
+    assert np.isclose(along @ up, np.cos(angle))  # as steep as the plane allows
+
+
 def test_an_asymmetric_body_gets_its_root_onto_the_mirror_plane():
     skeleton = body(lean=0.05, arm_drop=0.05)  # the plane stays x = 0 (the limbs' fit)
     root = bones.plan_bones(skeleton)[0]
