@@ -33,7 +33,7 @@ py::object to_python(const std::vector<dcg::NodeKind>& kinds, py::handle) {
 py::object to_python(const Timings& timings, py::handle) {
   py::dict d;
   for (const auto& [stage, seconds] : timings) d[py::str(stage)] = seconds;
-  return std::move(d);
+  return py::object(std::move(d));  // dict -> object: no copy, no -Wredundant-move (GCC 14)
 }
 
 /// The report as a dict of every property its class binds.
@@ -45,7 +45,7 @@ py::object to_python(const dcg::MeshReport& report, py::handle owner) {
     auto [name, value] = item.cast<std::pair<py::str, py::object>>();
     if (py::isinstance(value, property)) d[name] = bound.attr(name);
   }
-  return std::move(d);
+  return py::object(std::move(d));  // dict -> object: no copy, no -Wredundant-move (GCC 14)
 }
 
 py::object to_python(const std::vector<dcg::Peak>& peaks, py::handle) {
@@ -71,7 +71,7 @@ py::object to_python(const std::vector<dcg::Peak>& peaks, py::handle) {
   d["global"] = global;
   d["valley_vertices"] = valley_vertex;
   d["partners"] = partner;
-  return std::move(d);
+  return py::object(std::move(d));  // dict -> object: no copy, no -Wredundant-move (GCC 14)
 }
 
 namespace {

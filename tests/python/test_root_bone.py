@@ -1,12 +1,14 @@
 """The plan's root bone (dcg.bones.add_root): a control on the floor under the body, parent of
 every other bone, weighting nothing."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 import dcg
-from dcg import bones, humanoid
-from test_bones import body, limb_plan
+from dcg import bones, humanoid, symmetry
+from test_bones import body, limb_plan, skeleton_of
 from test_humanoid import person
 
 
@@ -56,40 +58,40 @@ def test_a_tilted_mirror_plane_gets_the_root_on_the_floor_and_on_the_plane():
     assert abs(root.head[0]) < 1e-9
 
 
-def test_a_cylinder_mirrored_across_its_middle_keeps_its_root_on_the_floor(meshes_dir):
-    """SkinnedCylinder (glTF's test rig: radius 1, 4 tall, standing on y = 0) mirrors top to
-    bottom across a plane through its middle that lies level, and none of its bones is sided:
-    no mirror tool needs the root on that plane, so it stays on the floor under the cylinder,
-    where its artist's root joint is (with sided bones it would leave the floor: above)."""
-    path = meshes_dir / "rigged" / "SkinnedCylinder.obj"
-    if not path.is_file():
-        pytest.skip(f"{path} not found")
-    V, F = dcg.load_mesh(path)
-    skeleton = dcg.extract_skeleton(V, F)
-    up = (0.0, 1.0, 0.0)
-    assert bones.lies_level(bones.plan_plane(skeleton), up)
-    plan = bones.plan_bones(skeleton, up=up)
-    assert not any(spec.name.endswith((".L", ".R")) for spec in plan)
-    root = plan[0]
-    assert root.kind == "root" and abs(root.head[1]) < 0.05  # on the floor, not at y = 2
-    assert np.hypot(root.head[0], root.head[2]) < 0.1       # under the middle
+def rearing_snake():
+    """A snake's skeleton along x on the floor (balls of radius 0.2) that rears its head, the
+    skeleton's root, up at one end: nodes tail, middle, neck, head (the root)."""
+    positions = [[0.0, 0.0, 0.2], [1.0, 0.0, 0.2], [2.0, 0.0, 0.2], [2.2, 0.0, 1.5]]
+    return skeleton_of(positions, ["end", "connection", "connection", "end"],
+                       [[3, 2], [2, 1], [1, 0]], root=3, radii=np.full(4, 0.2))
 
 
-def test_the_root_bone_stands_straight_up_even_under_a_body_off_its_centre(meshes_dir):
-    """Q_Snake rears up with its head, the skeleton's root, over one end of its coils: the root
+def test_a_level_mirror_plane_lifts_the_root_only_when_bones_are_sided():
+    """A plane that lies level (a shape mirrored top to bottom, like SkinnedCylinder across its
+    middle; or a model lying on its side): the root bone leaves the floor for it only when
+    some bones are .L / .R, whose mirror tools need the root on the plane; else it stays on
+    the floor under the body."""
+    skeleton = rearing_snake()
+    plan = bones.plan_bones(skeleton, root_bone=False)
+    level = symmetry.Plane(np.array([0.0, 0.0, 1.0]), 0.85, 0.0)
+    root = bones.add_root(plan, skeleton, level)[0]
+    assert np.isclose(root.head[2], 0.0)  # the floor: the lowest ball's bottom
+    sided = [dataclasses.replace(spec, name=spec.name + ".L") for spec in plan]
+    root = bones.add_root(sided, skeleton, level)[0]
+    assert np.isclose(level.signed(root.head), 0.0)  # on the plane, off the floor
+    assert np.allclose(root.tail, skeleton.positions[skeleton.root])  # toward the root node
+
+
+def test_the_root_bone_stands_straight_up_even_under_a_body_off_its_centre():
+    """The rearing snake's head, the skeleton's root, is over one end of its body: the root
     bone still stands straight up from the floor under the middle (turning it about its axis
     turns the snake about the vertical), as high as the head, not leaning over to it."""
-    path = meshes_dir / "rigged" / "Q_Snake.obj"
-    if not path.is_file():
-        pytest.skip(f"{path} not found")
-    V, F = dcg.load_mesh(path)
-    skeleton = dcg.extract_skeleton(V, F)
-    plan = bones.plan_bones(skeleton)  # up +Z
-    root, top = plan[0], np.asarray(plan[1].head)
-    along = root.tail - root.head
-    assert np.linalg.norm(along[:2]) < 1e-3 * along[2]  # up its mirror plane, off by 0.03 deg
-    assert np.isclose(root.tail[2], top[2])
-    assert np.linalg.norm((top - root.head)[:2]) > 0.1 * np.ptp(V[:, 2])  # the head is off it
+    skeleton = rearing_snake()
+    plan = bones.plan_bones(skeleton)  # up +Z, no mirror plane
+    root, top = plan[0], np.asarray(skeleton.positions[skeleton.root])
+    assert np.allclose(root.head, [1.1, 0.0, 0.0])  # the floor under the balls' box's middle
+    assert np.allclose(root.tail, [1.1, 0.0, 1.5])  # straight up, as high as the head
+    assert np.linalg.norm((top - root.head)[:2]) > 1.0  # the head is off it
 
 
 def test_a_root_on_a_tilted_mirror_plane_rises_up_the_plane_and_stays_on_it():
