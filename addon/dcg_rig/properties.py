@@ -62,7 +62,8 @@ def addon_annotations(flags=frozenset(), with_weights=True):
         name="Bone Detail", subtype="FACTOR", min=0.0, max=1.0,
         default=options.ADDON_DEFAULTS["bone_detail"], options=set(flags),
         description="How many bones each limb gets, its joints where it bends and "
-                    "narrows: 0 gives one bone per limb, 1 one bone per polyline segment")}
+                    "narrows: 0 gives one bone per limb, 1 one bone per polyline segment; "
+                    "below 0.5 long limbs lose bones first")}
     result["bone_names"] = EnumProperty(
         name="Bone Names", items=options.BONE_NAME_ITEMS,
         default=options.ADDON_DEFAULTS["bone_names"], options=set(flags),

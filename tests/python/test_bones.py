@@ -252,6 +252,10 @@ def test_the_bone_count_follows_bone_detail():
     assert counts[0] == 1 and counts[-1] == 24 and counts[5] == 15  # 0.5: 2.5 per link
     assert bones.bone_count(6, 24, 0.5) == 15 and bones.bone_count(6, 24, 2.0) == 24
     assert bones.bone_count(6, 24, -1.0) == 1
+    # Below 0.5 a long limb (many links) is capped: it thins first as the detail goes down.
+    assert [bones.bone_count(20, 80, d) for d in (0.1, 0.2, 0.3, 0.4, 0.5)] == [3, 7, 16, 40, 50]
+    counts = [bones.bone_count(20, 80, d) for d in np.linspace(0, 1, 101)]
+    assert counts == sorted(counts)
     plan = limb_plan(skeleton, bone_detail=0.5)
     for spec, child in zip(plan[:-1], plan[1:]):  # one connected chain, parents first
         assert child.parent == spec.name and child.use_connect
