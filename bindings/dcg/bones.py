@@ -380,9 +380,11 @@ def add_root(plan, skeleton, plane=None, up=UP):
     Its head lies on the floor across `up` (the lowest point of the skeleton's balls, each
     node's position less its radius) under the centre of the balls' bounding box, where a
     standing character's origin is (moved onto `plane`, the plan's mirror plane, when there
-    is one: `_root_onto_plane`; not onto a plane that lies level when no bone is sided, since
-    leaving the floor only serves the mirror tools, which pair .L / .R bones: a cylinder
-    mirrored across its middle keeps its root on the floor). Its tail stands straight up
+    is one, so that it stays its own mirror image for X-Axis Mirror and Paste Pose Flipped:
+    along the floor onto a plane within UPRIGHT_PLANE degrees of upright; along a level
+    plane's normal, off the floor, only when some bones are sided (a model lying on its side),
+    since only the mirror tools need it there: a cylinder mirrored across its middle keeps its
+    root on the floor). Its tail stands straight up
     from it, as high as the first bone's head (the skeleton's root, the pelvis of a humanoid;
     a snake's is its head), so that turning the root about its own axis turns the body about
     the vertical; up the plane's steepest line when it is on a plane a little off upright (it
@@ -397,11 +399,10 @@ def add_root(plan, skeleton, plane=None, up=UP):
     low, high = (positions - radii[:, None]).min(axis=0), (positions + radii[:, None]).max(axis=0)
     centre = (low + high) / 2.0
     head = centre - (centre @ up - float(np.min(positions @ up - radii))) * up
-    sided = any(spec.name.endswith((".L", ".R")) for spec in plan)
     level = plane is not None and lies_level(plane, up)
-    middle = plane is not None and (sided or not level)  # a bone of the middle, on the plane
-    if middle:
-        head = _root_onto_plane(plane, head, up)
+    middle = plane is not None and (has_sided_bones(plan) or not level)  # on the plane
+    if middle:  # a level plane: along its normal (off the floor), else along the floor
+        head = plane.project(head) if level else _onto_plane_along_floor(plane, head, up)
     top = np.array(plan[0].head, dtype=float)
     if middle and level:  # lying on its side: toward the skeleton's root, on the plane too
         tail = top
@@ -422,14 +423,14 @@ def add_root(plan, skeleton, plane=None, up=UP):
     return [root] + children
 
 
-def _root_onto_plane(plane, point, up):
-    """`point` (on the floor) moved onto `plane`: along the floor (across `up`) when the plane
-    stands within UPRIGHT_PLANE degrees of upright, so that it stays on the floor too; else (a
-    plane that lies nearly level: a model lying on its side, a cylinder mirrored across its
-    middle) along the plane's normal, off the floor: a bone of the middle stays on the plane,
-    its own mirror image, which X-Axis Mirror and Paste Pose Flipped rely on."""
-    if lies_level(plane, up):
-        return plane.project(point)
+def has_sided_bones(plan):
+    """Whether some bones of `plan` are named .L / .R (the ones the mirror tools pair)."""
+    return any(spec.name.endswith((".L", ".R")) for spec in plan)
+
+
+def _onto_plane_along_floor(plane, point, up):
+    """`point` (on the floor) moved onto `plane` (one that does not lie level) along the floor
+    (across `up`), so that it stays on the floor too."""
     across = _normal_along_floor(plane, up)
     across /= np.linalg.norm(across)
     return point - float(plane.signed(point)) / float(plane.normal @ across) * across

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from typing import List, Optional
 
-from .bones import BONE_NAMES, ROOT_BONE, UP, lies_level, plan_plane, unpaired_limbs
+from .bones import (BONE_NAMES, ROOT_BONE, UP, has_sided_bones, lies_level, plan_plane,
+                    unpaired_limbs)
 
 
 def fallback_warning(method: str) -> Optional[str]:
@@ -54,8 +55,7 @@ def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROO
         warnings.append(f"the shape mirrors itself, but {unpaired} limbs did not pair (their "
                         "skeletons differ, e.g. one leg hangs from the hips, its mirror image "
                         "from the chest): they keep plain names and do not mirror each other")
-    sided = any(spec.name.endswith((".L", ".R")) for spec in plan)
-    if sided and lies_level(plan_plane(skeleton), up):
+    if has_sided_bones(plan) and lies_level(plan_plane(skeleton), up):
         warnings.append("the mirror plane lies level, as if the model lay on its side: the .L "
                         "/ .R bones are its upper and lower halves"
                         + (", and the root bone sits on that plane, off the floor" if root_bone

@@ -39,14 +39,11 @@ int ProngHierarchy::move_to_midline(std::vector<const Peak*>& kept) const {
       if (mirrors_mesh(q.vertex, p->vertex)) twin = &q;
     }
     if (!twin) continue;
-    const Eigen::Vector3d a = mesh_.V.row(p->vertex), b = mesh_.V.row(twin->vertex);
-    const Eigen::Vector3d normal = (a - b).normalized();
-    const double offset = normal.dot(a + b) / 2, half = (a - b).norm() / 2;
+    const double half = (mesh_.V.row(p->vertex) - mesh_.V.row(twin->vertex)).norm() / 2;
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       const Peak& m = *candidates[c];
       if (owner[c] != p->vertex || &m == twin || taken[c]) continue;
-      const Eigen::Vector3d at = mesh_.V.row(m.vertex);
-      if (std::abs(normal.dot(at) - offset) > kMidlinePlane * half) continue;
+      if (off_halfway(p->vertex, twin->vertex, m.vertex) > kMidlinePlane * half) continue;
       p = &m;  // the strongest on the plane: candidates are sorted by ratio
       taken[c] = 1;
       ++moved;

@@ -89,13 +89,10 @@ std::vector<const Peak*> ProngHierarchy::tails(const std::vector<const Peak*>& k
     if (q.global || prong_vertices.count(q.vertex) || q.value < mean) continue;
     const auto owner = peak_at_.find(region_prong(q, prong_vertices));
     if (owner == peak_at_.end() || !prong_vertices.count(owner->first)) continue;
-    const Eigen::Vector3d at = mesh_.V.row(q.vertex);
-    if ((mesh_.V.row(owner->first) - at.transpose()).norm() < kTwinLength * mean) continue;
+    if ((mesh_.V.row(owner->first) - mesh_.V.row(q.vertex)).norm() < kTwinLength * mean) continue;
     const Peak* t = twin(peaks_[owner->second]);
     if (!t) continue;  // a nose on a head: the head's prong has no twin
-    const Eigen::Vector3d a = mesh_.V.row(owner->first), b = mesh_.V.row(t->vertex);
-    const Eigen::Vector3d normal = (a - b).normalized();
-    if (std::abs(normal.dot(at - (a + b) / 2)) > kTailPlane * diagonal) continue;
+    if (off_halfway(owner->first, t->vertex, q.vertex) > kTailPlane * diagonal) continue;
     if (angles.empty()) angles = vertex_angles(mesh_);
     ++tip_tests;
     if (most_turns(mesh_, angles, q.vertex, kTailRadius * diagonal) >= kTailTip) out.push_back(&q);

@@ -525,6 +525,11 @@ bool ProngHierarchy::mirrors_mesh(int a, int b) const {
   return sum <= most;
 }
 
+double ProngHierarchy::off_halfway(int a, int b, int v) const {
+  const Eigen::Vector3d pa = mesh_.V.row(a), pb = mesh_.V.row(b), at = mesh_.V.row(v);
+  return std::abs((pa - pb).normalized().dot(at - (pa + pb) / 2));
+}
+
 bool ProngHierarchy::is_mirror_twin(const Peak& twin, const Peak& partner) const {
   if (std::abs(twin.value - partner.value) > kTwinValue * partner.value) return false;
   const double length = edge_geodesics(mesh_, twin.vertex)[twin.valley_vertex];

@@ -174,6 +174,8 @@ class ProngHierarchy {
   bool cap_is_disk(int peak_vertex, double tau) const;
   bool is_mirror_twin(const Peak& twin, const Peak& partner) const;
   bool mirrors_mesh(int a, int b) const;  // the plane halfway between a and b mirrors it
+  // The distance of vertex v from the plane halfway between vertices a and b (a != b).
+  double off_halfway(int a, int b, int v) const;
   // The peaks past tau kept as fingers (see the class comment); `kept`: the prongs so far.
   std::vector<const Peak*> fingers(double tau, const std::vector<const Peak*>& kept) const;
   // The peaks past tau kept as tails (see the class comment); `kept`: the prongs so far.
