@@ -99,9 +99,9 @@ def measure(name, obj, rig_path, bone_detail) -> dict:
     kept = metrics.skeleton_metrics(V, plan["heads"][ours], plan["tails"][ours], joints, parents)
     row.update({"inside_" + key: value for key, value in kept.items()})
     row["outside"] = int((~inside).sum())
-    plane = bones.plan_plane(skeleton)
+    plane = bones.plan_plane(skeleton, up)
     row.update(pairs=0, mirror_mean=None, mirror_max=None,
-               unpaired_limbs=bones.unpaired_limbs(skeleton))
+               unpaired_limbs=bones.unpaired_limbs(skeleton, up))
     if plane is not None:
         row.update(metrics.mirror_error(V, plan["names"], plan["heads"], plan["tails"],
                                         plane.normal, plane.offset))

@@ -343,21 +343,21 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
 
         plan = humanoid.mixamo_plan(skeleton)
     if plan is None:
-        plan, plane = _limb_plan(skeleton, bone_detail, limb_fractions)
+        plan, plane = _limb_plan(skeleton, bone_detail, limb_fractions, up)
     elif root_bone:
         plane = humanoid.plan_plane(skeleton)  # what the Mixamo plan's pairs mirror across
     return add_root(plan, skeleton, plane, up) if root_bone else plan
 
 
-def _limb_plan(skeleton, bone_detail, limb_fractions):
+def _limb_plan(skeleton, bone_detail, limb_fractions, up=UP):
     """(plan_bones' chains of bones, one per limb, without a root bone ("dcg" names), the
-    plane they mirror across: plan_plane's)."""
+    plane they mirror across: plan_plane's across `up`)."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     extent = np.ptp(positions, axis=0) if len(positions) else np.zeros(3)
     min_length = 1e-6 * max(float(np.linalg.norm(extent)), 1e-12)
     chains = limbs(skeleton)
     polylines = [limb_polyline(skeleton, limb) for limb in chains]
-    plane, sides = _symmetry(skeleton, chains, polylines)
+    plane, sides = _symmetry(skeleton, chains, polylines, up)
     if plane is not None:
         polylines = _middle_ends(plane, skeleton, chains, sides, polylines)
     segments = [len(polyline[0]) - 1 for polyline in polylines]
@@ -438,9 +438,10 @@ def _onto_plane_along_floor(plane, point, up):
 
 def lies_level(plane, up=UP):
     """Whether a mirror plane is turned more than UPRIGHT_PLANE degrees from upright across
-    `up`: a model lying on its side, or one that mirrors top to bottom (a cylinder). Its `.L`
-    / `.R` bones are then upper and lower ones and the root bone leaves the floor for the
-    plane (`add_root`); the add-on says so."""
+    `up`: a model lying on its side, whose `.L` / `.R` bones are then upper and lower ones
+    and whose root bone leaves the floor for the plane (`add_root`); the add-on says so. (A
+    model standing as tall as it is wide that mirrors top to bottom, a cylinder, pairs nothing
+    across it: `mirrors_top_to_bottom`.)"""
     if plane is None:
         return False
     along_floor = float(np.linalg.norm(_normal_along_floor(plane, up)))
@@ -469,27 +470,49 @@ def check_bone_names(names):
                          f"{', '.join(BONE_NAME_CONVENTIONS)}, got {names!r}")
 
 
-def plan_plane(skeleton):
-    """The plane (a symmetry.Plane) that plan_bones mirrors the bones of `skeleton` across,
-    or None when it has no mirror plane: the shape's own (symmetry.shape_plane) when the
-    surface mirrors itself across a plane that agrees with the skeleton's (within
-    FITTED_AGREEMENT), else the skeleton's (symmetry.skeleton_plane) fitted to the limbs that
-    pair across it (`symmetry.fitted_plane`)."""
-    return _plan_symmetry(skeleton)[1]
+def plan_plane(skeleton, up=UP):
+    """The plane (a symmetry.Plane) that plan_bones mirrors the bones of `skeleton` across
+    (with the same `up`), or None when it has no mirror plane: the shape's own
+    (symmetry.shape_plane) when the surface mirrors itself across a plane that agrees with the
+    skeleton's (within FITTED_AGREEMENT), else the skeleton's (symmetry.skeleton_plane) fitted
+    to the limbs that pair across it (`symmetry.fitted_plane`); None for a level plane of a
+    model that stands at least as tall as it is wide (`mirrors_top_to_bottom`)."""
+    return _plan_symmetry(skeleton, up)[1]
 
 
-def _plan_symmetry(skeleton):
+def _plan_symmetry(skeleton, up=UP):
     """(chains, plane, sides) of `skeleton`: its limbs and `_symmetry` of them."""
     chains = limbs(skeleton)
     return (chains,) + _symmetry(skeleton, chains, [limb_polyline(skeleton, limb)
-                                                    for limb in chains])
+                                                    for limb in chains], up)
 
 
-def _symmetry(skeleton, chains, polylines):
+def mirrors_top_to_bottom(plane, skeleton, up=UP):
+    """Whether `plane` lies level across `up` (`lies_level`) while the skeleton's balls
+    stand at least as tall along `up` as they reach across it: an upright cylinder or
+    hourglass mirrored across its middle, not a model lying on its side (which is longer than
+    it is tall). Its upper and lower halves are no left and right: the planner pairs nothing
+    across such a plane, so that no bone gets a side that Blender's X-mirror tools would
+    misread, and the root bone stays on the floor."""
+    if not lies_level(plane, up):
+        return False
+    up = np.asarray(up, dtype=float).reshape(3)
+    up = up / max(float(np.linalg.norm(up)), 1e-300)
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    radii = np.asarray(skeleton.radii, dtype=float).reshape(-1)
+    gaps = positions[:, None] - positions[None]  # the nodes are tens to hundreds
+    along = gaps @ up
+    across = np.linalg.norm(gaps - along[..., None] * up, axis=2)
+    reach = radii[:, None] + radii[None]  # each pair's balls' farthest points apart
+    return float((np.abs(along) + reach).max()) >= float((across + reach).max())
+
+
+def _symmetry(skeleton, chains, polylines, up=UP):
     """(plane, sides): the plan's mirror plane (see plan_plane) and the (side, pair) of each
     limb (symmetry.pair_limbs across the skeleton's plane; limbs pair when they end at nodes
     of one kind; on a surface that mirrors itself within COPY_TOLERANCE also limbs whose ends
-    and starts mirror each other, symmetry.pair_by_ends)."""
+    and starts mirror each other, symmetry.pair_by_ends); no plane and no pairs across a
+    plane that `mirrors_top_to_bottom`."""
     plane = symmetry.skeleton_plane(skeleton)
     sides = symmetry.pair_limbs(plane, skeleton, [polyline[0] for polyline in polylines],
                                 [limb[-1][2] for limb in chains])
@@ -505,18 +528,21 @@ def _symmetry(skeleton, chains, polylines):
                                               ends, _degrees(skeleton)[ends] == 1, sides)
         else:
             plane = _fitted_plane(plane, polylines, sides)
+    if plane is not None and mirrors_top_to_bottom(plane, skeleton, up):
+        return None, symmetry.pair_limbs(None, skeleton, [polyline[0] for polyline in polylines])
     return plane, sides
 
 
-def unpaired_limbs(skeleton):
+def unpaired_limbs(skeleton, up=UP):
     """The number of limbs of a shape that mirrors itself (symmetry.shape_plane) that end at an
     end node off the plane whose mirror image is the end of another such limb, yet did not
     pair: their skeletons differ more than pairing tolerates (a leg hanging from the hips on one
     side and from the chest on the other), so they keep plain names and no mirror image. 0
-    without such a plane. What the add-on warns of."""
+    without such a plane, or when the plan mirrors nothing (`plan_plane` across `up`). What
+    the add-on warns of."""
     if symmetry.shape_plane(skeleton) is None:
         return 0
-    chains, plane, sides = _plan_symmetry(skeleton)
+    chains, plane, sides = _plan_symmetry(skeleton, up)
     if plane is None:
         return 0
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)

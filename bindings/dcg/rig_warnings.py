@@ -37,7 +37,8 @@ def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROO
 
     - the fallback skeleton (`fallback_warning`);
     - Mixamo's names asked of a skeleton that is not humanoid (dcg.humanoid.is_mixamo);
-    - limbs of a shape that mirrors itself that did not pair (dcg.bones.unpaired_limbs);
+    - limbs of a shape that mirrors itself that did not pair (dcg.bones.unpaired_limbs across
+      `up`);
     - paired bones mirrored across a plane that lies level (dcg.bones.lies_level across `up`:
       a model lying on its side), the root bone then on that plane when `root_bone`.
     """
@@ -50,12 +51,12 @@ def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROO
     if names.lower() == "mixamo" and not is_mixamo(plan):
         warnings.append("the skeleton is not humanoid (one head, two arms, two legs, upright "
                         "and symmetric): kept the descriptive bone names")
-    unpaired = unpaired_limbs(skeleton)
+    unpaired = unpaired_limbs(skeleton, up)
     if unpaired:
         warnings.append(f"the shape mirrors itself, but {unpaired} limbs did not pair (their "
                         "skeletons differ, e.g. one leg hangs from the hips, its mirror image "
                         "from the chest): they keep plain names and do not mirror each other")
-    if has_sided_bones(plan) and lies_level(plan_plane(skeleton), up):
+    if has_sided_bones(plan) and lies_level(plan_plane(skeleton, up), up):
         warnings.append("the mirror plane lies level, as if the model lay on its side: the .L "
                         "/ .R bones are its upper and lower halves"
                         + (", and the root bone sits on that plane, off the floor" if root_bone

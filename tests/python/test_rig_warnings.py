@@ -2,9 +2,12 @@
 
 import dataclasses
 
+import numpy as np
+
 import dcg
 from conftest import shared_skeleton
-from dcg import bones, rig_warnings
+from dcg import bones, rig_warnings, symmetry
+from test_bones import skeleton_of
 
 Y_UP = (0.0, 1.0, 0.0)  # spot.obj stands on y
 
@@ -41,3 +44,31 @@ def test_a_model_on_its_side_is_said_to_lie_with_its_root_off_the_floor(meshes_d
         (warning,) = rig_warnings.plan_warnings(skeleton, plan, root_bone=root_bone, up=side)
         assert warning.startswith("the mirror plane lies level")
         assert ("the root bone sits on that plane" in warning) == root_bone
+
+
+
+def upright_tube():
+    """A tube's skeleton standing on z (a cylinder 3 tall and 2 wide, as the engine sees it):
+    its middle node and two ends, each off the axis toward the rim of its flat cap, so that
+    the only plane that mirrors the nodes is the level one through the middle."""
+    positions = [[0.0, 0.0, 0.0], [0.3, 0.0, 1.0], [0.3, 0.0, -1.0]]
+    return skeleton_of(positions, ["connection", "end", "end"], [[0, 1], [0, 2]],
+                       root=0, radii=[1.0, 0.5, 0.5])
+
+
+def test_an_upright_shape_mirrored_top_to_bottom_gets_no_sides_and_no_warning():
+    """Its upper and lower halves are no left and right: .L / .R names would make Blender's
+    X-mirror tools pair the wrong bones, and "stand the model upright" would be wrong advice.
+    Across x as up the same tube lies along z, its plane z = 0 stands, and its halves pair
+    (spot on its side, above, is still told that it lies)."""
+    skeleton = upright_tube()
+    level = symmetry.skeleton_plane(skeleton)
+    assert bones.lies_level(level) and bones.mirrors_top_to_bottom(level, skeleton)
+    plan = bones.plan_bones(skeleton)
+    assert not bones.has_sided_bones(plan) and bones.plan_plane(skeleton) is None
+    assert plan[0].kind == "root" and np.isclose(plan[0].head[2], -1.5)  # on the floor
+    assert rig_warnings.plan_warnings(skeleton, plan) == []
+    x_up = (1.0, 0.0, 0.0)
+    assert not bones.mirrors_top_to_bottom(level, skeleton, x_up)
+    assert bones.has_sided_bones(bones.plan_bones(skeleton, up=x_up))
+    assert bones.plan_plane(skeleton, x_up) is not None
