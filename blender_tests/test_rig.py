@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from mathutils import Quaternion, Vector
+from mathutils import Matrix, Quaternion, Vector
 
 import bpy
 from conftest import add_mesh, capsule, scene_counts
@@ -359,3 +359,19 @@ def test_a_standing_cylinder_gets_no_left_and_right_and_its_root_on_the_floor(ca
     root = armature.matrix_world @ armature.data.bones["root"].head_local
     assert abs(root.z - -2.0) < 0.05, root
     assert "lies level" not in _printed(capfd)
+
+
+
+def test_the_root_bone_stands_under_the_objects_origin(spot):
+    """The object's origin (the orange dot the user places) is where the root bone stands
+    when it is over the body: spot's mesh moved 0.3 forward along its mirror plane past its
+    origin (world units) gets its root under the origin, not under the body's middle."""
+    spot.data.transform(Matrix.Translation((0.0, 0.15, 0.0)))  # scale 2: 0.3 in the world
+    bpy.context.view_layer.update()
+    corners = [spot.matrix_world @ Vector(corner) for corner in spot.bound_box]
+    middle = sum(corners, Vector()) / 8.0
+    assert rig(weights="ENVELOPE") == {"FINISHED"}
+    (armature,) = armatures()
+    head = armature.matrix_world @ armature.data.bones["root"].head_local
+    assert (head.xy - spot.location.xy).length < 0.02, (head, spot.location)
+    assert abs(head.y - middle.y) > 0.2  # the old rule: under the middle

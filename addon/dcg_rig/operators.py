@@ -246,7 +246,7 @@ def show_preview(context, mesh_obj, extractor, values):
     skeleton = extractor.skeleton()
     collection = preview.build_preview(context, skeleton, preview.stage_geometry(extractor))
     plan, warnings = rigging.plan_bones(skeleton, values["bone_detail"], values["bone_names"],
-                                        values["root_bone"])
+                                        values["root_bone"], mesh_obj.matrix_world.translation)
     if plan:
         engine = _engine.require()
         mixamo = engine.humanoid.is_mixamo(plan)  # planned from the pelvis: its own plane

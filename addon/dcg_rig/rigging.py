@@ -76,16 +76,19 @@ def reusable_prepared(mesh_obj, prepared):
     return prepared
 
 
-def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAULTS["root_bone"]):
+def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAULTS["root_bone"],
+               origin=None):
     """(the bone plan of `skeleton`, warnings): the package's planner (dcg.bones.plan_bones)
     at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"), with a root bone on the floor
-    (world +Z up) when `root_bone`, and what the user should be told of it
+    (world +Z up) when `root_bone`, under `origin` (the mesh object's origin in world space;
+    None: the world's) when that is over the body, and what the user should be told of it
     (dcg.rig_warnings.plan_warnings: the fallback skeleton, Mixamo's names asked of a skeleton
     that is not humanoid, limbs of a shape that mirrors itself that did not pair, paired bones
     mirrored across a plane that lies level); `dcg batch` records the same."""
     engine = _engine.require()
+    where = {} if origin is None else {"origin": tuple(origin)}
     plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower(),
-                                   root_bone=bool(root_bone))  # up: Blender's +Z, the default
+                                   root_bone=bool(root_bone), **where)  # up: +Z, the default
     return plan, engine.rig_warnings.plan_warnings(skeleton, plan, bone_names.lower(),
                                                    bool(root_bone))
 
@@ -104,7 +107,8 @@ def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS[
     restored, then the exception propagates.
     """
     if plan is None:
-        plan, warnings = plan_bones(skeleton, bone_detail, bone_names, root_bone)
+        plan, warnings = plan_bones(skeleton, bone_detail, bone_names, root_bone,
+                                    mesh_obj.matrix_world.translation)
     else:  # the edited preview's bones: only the skeleton's own warning applies
         warnings = [text for text in [fallback_warning(skeleton.method)] if text]
     if not plan:

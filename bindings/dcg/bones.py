@@ -91,6 +91,10 @@ ROOT_BONE = True
 ROOT_NAME = "root"
 #: The up direction, across which the root bone's floor lies (Blender's world +Z).
 UP = (0.0, 0.0, 1.0)
+#: The model's own origin, in the skeleton's coordinates: its file's coordinate origin (the
+#: add-on passes its object's origin). The root bone stands on the floor under it when it is
+#: over the body's footprint, where game characters' artists put it (`add_root`).
+ORIGIN = (0.0, 0.0, 0.0)
 #: The root bone's head moves onto the mirror plane along the floor when the plane stands
 #: within this many degrees of upright, else along the plane's normal (`add_root`).
 UPRIGHT_PLANE = 45.0
@@ -317,7 +321,7 @@ def limb_polyline(skeleton, limb):
 
 
 def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractions=None,
-               root_bone=ROOT_BONE, up=UP):
+               root_bone=ROOT_BONE, up=UP, origin=ORIGIN):
     """Return the list of BoneSpec for `skeleton`, parents before children.
 
     `skeleton` needs positions (#N by 3), kinds (#N), radii (#N), links (#L by 2),
@@ -333,8 +337,9 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
     fractions of arc length the inner joints of the limb that ends at that node are drawn to
     (see `articulations`)}: that limb gets one bone more than fractions (fewer if it has fewer
     polyline segments, then no fractions) instead of `bone_detail`'s count (what the "mixamo"
-    plan asks for). root_bone: start the plan with a root bone on the floor across `up`
-    (`add_root`).
+    plan asks for). root_bone: start the plan with a root bone on the floor across `up`,
+    under `origin` (the model's own origin, ORIGIN by default: its file's) when that is over
+    the body, else (or with None) under the middle of the body (`add_root`).
     """
     check_bone_names(names)
     plan = plane = None
@@ -346,7 +351,7 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
         plan, plane = _limb_plan(skeleton, bone_detail, limb_fractions, up)
     elif root_bone:
         plane = humanoid.plan_plane(skeleton)  # what the Mixamo plan's pairs mirror across
-    return add_root(plan, skeleton, plane, up) if root_bone else plan
+    return add_root(plan, skeleton, plane, up, origin) if root_bone else plan
 
 
 def _limb_plan(skeleton, bone_detail, limb_fractions, up=UP):
@@ -374,11 +379,12 @@ def _limb_plan(skeleton, bone_detail, limb_fractions, up=UP):
     return _chain_bones(skeleton, chains, sides, plane, joints, frame), plane
 
 
-def add_root(plan, skeleton, plane=None, up=UP):
+def add_root(plan, skeleton, plane=None, up=UP, origin=None):
     """`plan` (BoneSpecs, parents first) headed by a root bone (kind "root", named ROOT_NAME,
     no vertex weights) that every bone without a parent gets as its parent (not connected).
     Its head lies on the floor across `up` (the lowest point of the skeleton's balls, each
-    node's position less its radius) under the centre of the balls' bounding box, where a
+    node's position less its radius) under `origin`, the model's own origin, when that is over
+    the balls' footprint (`_root_foot`), else under the centre of their bounding box, where a
     standing character's origin is (moved onto `plane`, the plan's mirror plane, when there
     is one, so that it stays its own mirror image for X-Axis Mirror and Paste Pose Flipped:
     along the floor onto a plane within UPRIGHT_PLANE degrees of upright; along a level
@@ -397,8 +403,8 @@ def add_root(plan, skeleton, plane=None, up=UP):
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     radii = np.asarray(skeleton.radii, dtype=float).reshape(-1)
     low, high = (positions - radii[:, None]).min(axis=0), (positions + radii[:, None]).max(axis=0)
-    centre = (low + high) / 2.0
-    head = centre - (centre @ up - float(np.min(positions @ up - radii))) * up
+    over = _root_foot(positions, radii, up, origin)
+    head = over - (over @ up - float(np.min(positions @ up - radii))) * up
     level = plane is not None and lies_level(plane, up)
     middle = plane is not None and (has_sided_bones(plan) or not level)  # on the plane
     if middle:  # a level plane: along its normal (off the floor), else along the floor
@@ -421,6 +427,32 @@ def add_root(plan, skeleton, plane=None, up=UP):
     children = [replace(spec, parent=ROOT_NAME) if spec.parent is None else spec
                 for spec in plan]
     return [root] + children
+
+
+def _root_foot(positions, radii, up, origin):
+    """The point the root bone stands under: `origin` (a 3-vector, or None) when it lies over
+    the footprint of the balls (positions #N by 3, radii #N) across unit `up` (within their
+    extent along both directions of the floor), else the centre of their bounding box.
+
+    Why the origin: an artist puts a character's origin on the floor under it, where game
+    engines move it from (the rigged characters' root joints), and in Blender it is the
+    object's origin the user sees and moves; 13 of the 14 rigged characters' origins lie
+    over their footprint. It brought the mean CD-J2J / J2B / B2B from 3.70 / 2.35 / 2.70 to
+    3.62 / 2.25 / 2.64 (Q_Wasp's origin lies 14% of its size from its bounding box's centre,
+    Fox's and Q_Horse's 6%). An origin off the footprint (a model far from its file's origin)
+    says nothing of where the body stands."""
+    low = (positions - radii[:, None]).min(axis=0)
+    high = (positions + radii[:, None]).max(axis=0)
+    centre = (low + high) / 2.0
+    if origin is None:
+        return centre
+    origin = np.asarray(origin, dtype=float).reshape(3)
+    floor = np.linalg.svd(up.reshape(1, 3))[2][1:]  # two unit directions across up
+    along = positions @ floor.T
+    over = floor @ origin
+    inside = (over >= (along - radii[:, None]).min(axis=0)) & \
+        (over <= (along + radii[:, None]).max(axis=0))
+    return origin if bool(inside.all()) else centre
 
 
 def has_sided_bones(plan):

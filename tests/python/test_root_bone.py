@@ -35,13 +35,30 @@ def test_the_root_bone_stands_on_the_floor_under_the_body_and_parents_every_limb
 
 def test_the_floor_lies_across_the_up_direction_given():
     skeleton = body()  # flat: every node at y = 0
-    root = bones.plan_bones(skeleton, up=(0.0, 1.0, 0.0))[0]
+    root = bones.plan_bones(skeleton, up=(0.0, 1.0, 0.0), origin=None)[0]
     assert np.allclose(root.head, [0.0, -0.1, 0.2])  # under the middle of the balls' box
+    root = bones.plan_bones(skeleton, up=(0.0, 1.0, 0.0))[0]
+    assert np.allclose(root.head, [0.0, -0.1, 0.0])  # under the origin, over the body
     assert bones.plan_bones(skeleton, root_bone=False)[0].kind != "root"
     # A body lying on its side (up along the mirror plane's normal) keeps its root bone in
     # the plane, a bone of the middle, rather than beside one half.
-    root = bones.plan_bones(skeleton, up=(1.0, 0.0, 0.0))[0]
+    root = bones.plan_bones(skeleton, up=(1.0, 0.0, 0.0), origin=None)[0]
     assert np.allclose(root.head, [0.0, 0.0, 0.2])
+
+
+def test_the_root_bone_stands_under_the_models_origin_when_that_is_over_the_body():
+    """Where a game character's artist puts its origin, and the Blender object's origin the
+    user sees: on the floor under the body. Off the body's footprint it says nothing of where
+    the body stands; off the mirror plane the root still goes onto the plane."""
+    skeleton = body()  # feet at z = -1.2 (floor -1.3), the balls' box x -1.3..1.3, y -0.1..0.1
+    assert np.allclose(bones.plan_bones(skeleton, origin=(0.6, 0.05, 2.0))[0].head,
+                       [0.0, 0.05, -1.3])  # onto the plane x = 0 along the floor
+    assert np.allclose(bones.plan_bones(skeleton, origin=(0.6, 0.5, 0.0))[0].head,
+                       [0.0, 0.0, -1.3])  # y = 0.5: off the footprint, under the centre
+    turned = bones.plan_bones(skeleton, up=(0.0, 1.0, 0.0), origin=(0.0, 5.0, -0.5))[0]
+    assert np.allclose(turned.head, [0.0, -0.1, -0.5])  # any height: it drops to the floor
+    assert np.allclose(bones.plan_bones(skeleton, up=(0.0, 1.0, 0.0),
+                                        origin=(0.0, 0.0, -2.0))[0].head, [0.0, -0.1, 0.2])
 
 
 def test_a_tilted_mirror_plane_gets_the_root_on_the_floor_and_on_the_plane():
@@ -87,7 +104,7 @@ def test_the_root_bone_stands_straight_up_even_under_a_body_off_its_centre():
     bone still stands straight up from the floor under the middle (turning it about its axis
     turns the snake about the vertical), as high as the head, not leaning over to it."""
     skeleton = rearing_snake()
-    plan = bones.plan_bones(skeleton)  # up +Z, no mirror plane
+    plan = bones.plan_bones(skeleton, origin=None)  # up +Z, no mirror plane
     root, top = plan[0], np.asarray(skeleton.positions[skeleton.root])
     assert np.allclose(root.head, [1.1, 0.0, 0.0])  # the floor under the balls' box's middle
     assert np.allclose(root.tail, [1.1, 0.0, 1.5])  # straight up, as high as the head
