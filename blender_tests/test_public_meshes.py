@@ -77,7 +77,7 @@ def test_the_armature_is_the_skeletons_bone_plan(rigged, dcg):
     # same mesh, same default options: same skeleton
     skeleton = shared_skeleton(dcg, V, F, rigged.name)
     settings = properties.settings(bpy.context)
-    plan = dcg.bones.plan_bones(skeleton, settings.bone_detail)
+    plan = dcg.bones.plan_bones(skeleton, settings.bone_detail, up=dcg.bones.UP)  # the add-on's
     armature_bones = arms[0].data.bones
     assert len(armature_bones) == len(plan)
     for spec in plan:
@@ -100,7 +100,8 @@ def test_the_batch_npz_holds_the_armatures_bones(rigged, dcg):
     skeleton = shared_skeleton(dcg, V, F, rigged.name)
     batch_worker = importlib.import_module(dcg.__name__ + ".batch_worker")
     data, status = batch_worker.weights_npz(
-        V, F, skeleton, bone_detail=properties.settings(bpy.context).bone_detail)
+        V, F, skeleton, bone_detail=properties.settings(bpy.context).bone_detail,
+        up=dcg.bones.UP)  # Blender's +Z, as the add-on and `dcg batch` of a Z-up file
     assert status == "ok"
     heads, tails = armature.bone_world_segments(arm)
     made = {bone.name: (head, tail, bone.parent.name if bone.parent else None)

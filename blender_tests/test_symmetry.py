@@ -50,8 +50,8 @@ class Rig:
         assert bpy.ops.object.dcg_auto_rig(weights="NONE") == {"FINISHED"}
         (self.arm,) = [o for o in bpy.data.objects if o.type == "ARMATURE"]
         skeleton = shared_skeleton(dcg, self.V, F, name)  # the same skeleton, same options
-        self.plan = {spec.name: spec for spec in dcg.bones.plan_bones(
-            skeleton, properties.settings(bpy.context).bone_detail)}
+        self.plan = {spec.name: spec for spec in dcg.bones.plan_bones(  # as the add-on plans
+            skeleton, properties.settings(bpy.context).bone_detail, up=dcg.bones.UP)}
         self.plane = dcg.bones.plan_plane(skeleton)
         self.plan_reach = dcg.bones.symmetry.MIRROR_REACH
         assert self.plane is not None, f"{name}: no mirror plane"

@@ -79,18 +79,19 @@ def reusable_prepared(mesh_obj, prepared):
 def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAULTS["root_bone"],
                origin=None):
     """(the bone plan of `skeleton`, warnings): the package's planner (dcg.bones.plan_bones)
-    at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO"), with a root bone on the floor
-    (world +Z up) when `root_bone`, under `origin` (the mesh object's origin in world space;
-    None: the world's) when that is over the body, and what the user should be told of it
+    at `bone_detail`, named by `bone_names` ("DCG" or "MIXAMO") with world +Z as the scene's
+    up, with a root bone on the floor across it when `root_bone`, under `origin` (the mesh
+    object's origin in world space; None: the world's) when that is over the body, and what the
+    user should be told of it
     (dcg.rig_warnings.plan_warnings: the fallback skeleton, Mixamo's names asked of a skeleton
     that is not humanoid, limbs of a shape that mirrors itself that did not pair, paired bones
     mirrored across a plane that lies level); `dcg batch` records the same."""
     engine = _engine.require()
     where = {} if origin is None else {"origin": tuple(origin)}
     plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower(),
-                                   root_bone=bool(root_bone), **where)  # up: +Z, the default
+                                   root_bone=bool(root_bone), up=engine.bones.UP, **where)
     return plan, engine.rig_warnings.plan_warnings(skeleton, plan, bone_names.lower(),
-                                                   bool(root_bone))
+                                                   bool(root_bone), engine.bones.UP)
 
 
 def apply_rig(context, mesh_obj, skeleton, weight_method=options.ADDON_DEFAULTS["weights"],

@@ -15,7 +15,7 @@ import numpy as np
 
 from .batch_blender import read_with_blender, rig_with_blender
 from .batch_jobs import BLENDER_FORMATS, BatchError, Job, file_up
-from .bones import BONE_DETAIL, BONE_NAMES, ROOT_BONE, UP, bone_arrays, deforms, plan_bones
+from .bones import BONE_DETAIL, BONE_NAMES, ROOT_BONE, bone_arrays, deforms, plan_bones
 from .rig_warnings import plan_warnings
 
 
@@ -39,13 +39,14 @@ def _package():
 
 def weights_npz(V, F, skeleton, prepared=None, progress=None,
                 bone_detail: float = BONE_DETAIL, options=None,
-                bone_names: str = BONE_NAMES, root_bone: bool = ROOT_BONE, up=UP,
+                bone_names: str = BONE_NAMES, root_bone: bool = ROOT_BONE, up=None,
                 plan=None) -> tuple:
     """The .weights.npz bytes and the weights status: "ok", or "unavailable: why".
 
     The file holds the bones the add-on makes of `skeleton` (dcg.bones.plan_bones at
     `bone_detail`, named by `bone_names`' convention, with a root bone on the floor across `up`
-    when `root_bone`, as arrays by dcg.bones.bone_arrays):
+    when `root_bone` (None: not known, as plan_bones takes it), as arrays by
+    dcg.bones.bone_arrays):
     bone_names, bone_heads, bone_tails, bone_parents (-1 at a root), bone_links, bone_kinds,
     bone_z_axes (#B x 3, each bone's local Z axis) and bone_rolls (#B, Blender's roll for it,
     radians, in the model's coordinates); then status (the same text), vertices (#V) and, when

@@ -321,7 +321,7 @@ def limb_polyline(skeleton, limb):
 
 
 def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractions=None,
-               root_bone=ROOT_BONE, up=UP, origin=ORIGIN):
+               root_bone=ROOT_BONE, up=None, origin=ORIGIN):
     """Return the list of BoneSpec for `skeleton`, parents before children.
 
     `skeleton` needs positions (#N by 3), kinds (#N), radii (#N), links (#L by 2),
@@ -337,26 +337,32 @@ def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractio
     fractions of arc length the inner joints of the limb that ends at that node are drawn to
     (see `articulations`)}: that limb gets one bone more than fractions (fewer if it has fewer
     polyline segments, then no fractions) instead of `bone_detail`'s count (what the "mixamo"
-    plan asks for). root_bone: start the plan with a root bone on the floor across `up`,
-    under `origin` (the model's own origin, ORIGIN by default: its file's) when that is over
-    the body, else (or with None) under the middle of the body (`add_root`).
+    plan asks for). up: the model's up direction when the caller knows it (the add-on:
+    Blender's world +Z; `dcg batch`: its format's): the root bone's floor lies across it, and
+    the names take it where the shape's own up points against it (`dcg.naming.scene_up`: a
+    flying wasp's raised wings looked like feet); None (a file of unknown up): UP for the
+    floor and the shape's own up for the names (`dcg.naming.up_axis`). root_bone: start the
+    plan with a root bone on the floor across up, under `origin` (the model's own origin,
+    ORIGIN by default: its file's) when that is over the body, else (or with None) under the
+    middle of the body (`add_root`).
     """
     check_bone_names(names)
+    names_up, up = up, (UP if up is None else up)
     plan = plane = None
     if names == "mixamo":
         from . import humanoid  # it plans with this function
 
         plan = humanoid.mixamo_plan(skeleton)
     if plan is None:
-        plan, plane = _limb_plan(skeleton, bone_detail, limb_fractions, up)
+        plan, plane = _limb_plan(skeleton, bone_detail, limb_fractions, up, names_up)
     elif root_bone:
         plane = humanoid.plan_plane(skeleton)  # what the Mixamo plan's pairs mirror across
     return add_root(plan, skeleton, plane, up, origin) if root_bone else plan
 
 
-def _limb_plan(skeleton, bone_detail, limb_fractions, up=UP):
-    """(plan_bones' chains of bones, one per limb, without a root bone ("dcg" names), the
-    plane they mirror across: plan_plane's across `up`)."""
+def _limb_plan(skeleton, bone_detail, limb_fractions, up=UP, names_up=None):
+    """(plan_bones' chains of bones, one per limb, without a root bone ("dcg" names, after
+    `names_up`: see plan_bones), the plane they mirror across: plan_plane's across `up`)."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     extent = np.ptp(positions, axis=0) if len(positions) else np.zeros(3)
     min_length = 1e-6 * max(float(np.linalg.norm(extent)), 1e-12)
@@ -376,7 +382,7 @@ def _limb_plan(skeleton, bone_detail, limb_fractions, up=UP):
     if plane is not None:
         symmetrize(plane, skeleton, chains, sides, joints, polylines)
     frame = _references(plane, positions, sides, joints)
-    return _chain_bones(skeleton, chains, sides, plane, joints, frame), plane
+    return _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up), plane
 
 
 def add_root(plan, skeleton, plane=None, up=UP, origin=None):
@@ -840,17 +846,18 @@ def _references(plane, positions, sides, joints):
     return references, side, up
 
 
-def _chain_bones(skeleton, chains, sides, plane, joints, frame):
+def _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up=None):
     """The BoneSpecs of the limbs' chains (joints: LimbJoints per limb, final), in limb order:
-    named after their chains (`dcg.naming`: a .R bone after its .L partner), parented, with
-    END_INSET tails and each chain's rolls (frame: what _references returns)."""
+    named after their chains (`dcg.naming` with `names_up`: a .R bone after its .L partner),
+    parented, with END_INSET tails and each chain's rolls (frame: what _references returns)."""
     references, side_axis, up = frame
     kinds = [str(k) for k in skeleton.kinds]
     degree = _degrees(skeleton)
     bone_kinds = [[kinds[n] if n >= 0 else "connection" for n in limb_points.nodes[1:]]
                   for limb_points in joints]
     chain_names = naming.chain_names(skeleton, chains, sides, plane,
-                                     [limb_points.points for limb_points in joints], degree)
+                                     [limb_points.points for limb_points in joints], degree,
+                                     names_up)
     name_of = naming.namer()
     tail_bone = {}  # node -> name of the bone whose tail is that node
     bones = []

@@ -43,6 +43,9 @@ FINGERS = 3
 #: Up is an axis along which the skeleton spreads at least this fraction of its widest extent
 #: (see `up_axis`).
 SPREAD = 0.25
+#: The up found from the shape gives way to the caller's when it is farther than this many
+#: degrees from it (`scene_up`: upside down in the scene).
+UPSIDE_DOWN = 135.0
 #: An axis within this many degrees of the mirror plane may be up (a model built along the
 #: axes); a plane turned farther from all of them is searched UP_CIRCLE directions around.
 ALIGNED = 15.0
@@ -73,6 +76,23 @@ def up_axis(positions, ends, plane=None):
     return best
 
 
+def scene_up(found, given, plane=None):
+    """The up the names follow when the caller knows the model's (`given`, a 3-vector: the
+    add-on's world +Z) and `up_axis` found `found` (unit): `found`, unless it points against
+    `given` (more than UPSIDE_DOWN degrees from it), then `given` (turned into `plane`, which
+    holds up). A model does not stand on its head in its scene: raised wings' tips make the
+    top look like the ground (a flying wasp: its sting was named its head). A quarter turn is
+    believed: an OFF file's Y-up model lies in a Blender scene, and its feet still name it."""
+    given = np.asarray(given, dtype=float).reshape(3)
+    given = given / max(float(np.linalg.norm(given)), 1e-300)
+    if float(found @ given) >= -np.cos(np.radians(180.0 - UPSIDE_DOWN)):
+        return found
+    if plane is not None:
+        normal = np.asarray(plane.normal, dtype=float)
+        given = given - (given @ normal) * normal
+    return given / max(float(np.linalg.norm(given)), 1e-300)
+
+
 def _up_candidates(plane):
     """UP_CANDIDATES; with a mirror plane (up lies in it), those within ALIGNED of it, moved into
     it; when the plane is turned away from the axes (none is), UP_CIRCLE directions around it."""
@@ -91,17 +111,18 @@ def _up_candidates(plane):
     return [np.cos(a) * first + np.sin(a) * second for a in angles]
 
 
-def chain_names(skeleton, chains, sides, plane, limb_points, degree):
+def chain_names(skeleton, chains, sides, plane, limb_points, degree, up=None):
     """The name of each limb's chain (chains: dcg.bones.limbs; sides: (side, pair) per limb;
     plane: the plan's mirror plane or None; limb_points: each limb's joints, first to last, as
-    planned; degree: the links at each node), as the module's text says; a .R limb gets its .L
-    partner's name."""
+    planned; degree: the links at each node; up: the model's up when the caller knows it, else
+    None: `up_axis`), as the module's text says; a .R limb gets its .L partner's name."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     starts = [limb[0][1] for limb in chains]
     ends = [limb[-1][2] for limb in chains]
     tips = [bool(limb[-1][3] and degree[end] == 1) for limb, end in zip(chains, ends)]
     loops = [not limb[0][3] for limb in chains]
-    base, head = _base_names(positions, plane, sides, limb_points, starts, ends, tips, loops)
+    base, head = _base_names(positions, plane, sides, limb_points, starts, ends, tips, loops,
+                             up)
     names = _numbered(positions, base, ends, tips, sides, head)
     _inherit(names, base, starts, ends, sides)
     for left, right in symmetry.partners(sides).items():
@@ -109,9 +130,10 @@ def chain_names(skeleton, chains, sides, plane, limb_points, degree):
     return names
 
 
-def _base_names(positions, plane, sides, limb_points, starts, ends, tips, loops):
+def _base_names(positions, plane, sides, limb_points, starts, ends, tips, loops, up=None):
     """(each limb's name before numbering, the head's limb or None): see the module's text."""
-    up = up_axis(positions, [end for end, tip in zip(ends, tips) if tip], plane)
+    found = up_axis(positions, [end for end, tip in zip(ends, tips) if tip], plane)
+    up = found if up is None else scene_up(found, up, plane)
     height = positions @ up
     grounded = height[ends] <= height.min() + GROUND * np.ptp(height)
     if plane is None:

@@ -31,7 +31,7 @@ def is_fallback(method: str) -> bool:
 
 
 def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROOT_BONE,
-                  up=UP) -> List[str]:
+                  up=None) -> List[str]:
     """The warnings of `plan`, dcg.bones.plan_bones(skeleton, names=names,
     root_bone=root_bone, up=up), in this order, each a sentence without its full stop:
 
@@ -44,6 +44,7 @@ def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROO
     """
     from .humanoid import is_mixamo  # humanoid plans with dcg.bones, which this module reads
 
+    up = UP if up is None else up  # as plan_bones takes None
     warnings = []
     fallback = fallback_warning(getattr(skeleton, "method", "dcg"))
     if fallback:

@@ -125,3 +125,33 @@ def test_public_meshes_get_the_names_of_their_limbs(meshes_dir, name, chains):
     for chain in found:  # a pair's chains have as many bones, named alike
         if chain.endswith(".L"):
             assert found[chain] == found[chain[:-1] + "R"]
+
+
+def flying_insect():
+    """A wasp in flight, standing on z: a thorax joint (the root), a head end at the top front,
+    a sting end at the bottom, two pairs of wings raised above everything and a pair of legs
+    hanging in the air: along -z four ends (the wing tips) look like feet on the ground."""
+    positions = [[0, 0, 2], [0, 0.8, 2.6], [0, -0.3, 0.5], [1.2, 0.3, 3.6], [-1.2, 0.3, 3.6],
+                 [1.1, -0.4, 3.5], [-1.1, -0.4, 3.5], [0.6, 0.3, 1.2], [-0.6, 0.3, 1.2]]
+    kinds = ["joint"] + ["end"] * 8
+    return skeleton_of(positions, kinds, [[0, k] for k in range(1, 9)], root=0,
+                       radii=[0.3] + [0.1] * 8)
+
+
+def test_a_flying_insect_is_named_upright_in_its_scene():
+    """Its own up (where most ends stand) is upside down: its raised wings' tips look like
+    feet, and the sting, highest along it, became the head. Told the scene's up (the add-on's
+    world +Z), the head is the highest end of the middle and the sting the tail; a quarter
+    turn from the scene's up is believed (a Y-up file's model lying in a Blender scene)."""
+    insect = flying_insect()
+
+    def chain_at(plan, node):
+        return next(re.sub(r"\.\d{3}", "", s.name) for s in plan if s.node == node)
+    inferred = limb_plan(insect, bone_detail=0.0)
+    assert (chain_at(inferred, 2), chain_at(inferred, 1)) == ("head", "tail")  # upside down
+    upright = limb_plan(insect, bone_detail=0.0, up=(0.0, 0.0, 1.0))
+    assert (chain_at(upright, 1), chain_at(upright, 2)) == ("head", "tail")
+    assert not any(name.startswith("leg") for name in chains_of(upright))  # nothing stands
+    found = naming.up_axis(insect.positions, list(range(1, 9)), bones.plan_plane(insect))
+    assert np.allclose(naming.scene_up(found, (0, 0, 1)), [0, 0, 1])
+    assert np.allclose(naming.scene_up(np.array([0.0, 1.0, 0.0]), (0, 0, 1)), [0, 1, 0])
