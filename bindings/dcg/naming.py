@@ -33,6 +33,7 @@ Each bone's kind (end, joint, connection) stays in BoneSpec.kind.
 import numpy as np
 
 from . import symmetry
+from .rolls import unit
 
 #: An end stands on the ground when it lies within this fraction of the skeleton's height
 #: (along `up_axis`) above its lowest node: a leg's foot, not a hand or a wing tip.
@@ -83,14 +84,13 @@ def scene_up(found, given, plane=None):
     holds up). A model does not stand on its head in its scene: raised wings' tips make the
     top look like the ground (a flying wasp: its sting was named its head). A quarter turn is
     believed: an OFF file's Y-up model lies in a Blender scene, and its feet still name it."""
-    given = np.asarray(given, dtype=float).reshape(3)
-    given = given / max(float(np.linalg.norm(given)), 1e-300)
-    if float(found @ given) >= -np.cos(np.radians(180.0 - UPSIDE_DOWN)):
+    given = unit(np.asarray(given, dtype=float).reshape(3))
+    if float(found @ given) >= np.cos(np.radians(UPSIDE_DOWN)):
         return found
     if plane is not None:
         normal = np.asarray(plane.normal, dtype=float)
         given = given - (given @ normal) * normal
-    return given / max(float(np.linalg.norm(given)), 1e-300)
+    return unit(given)
 
 
 def _up_candidates(plane):

@@ -26,7 +26,7 @@ STRAIGHT = 0.05
 PARALLEL = 0.2
 
 
-def _unit(vector):
+def unit(vector):
     """vector / |vector| (the zero vector stays zero)."""
     length = float(np.linalg.norm(vector))
     return vector / length if length > 0 else vector
@@ -48,7 +48,7 @@ def skeleton_frame(positions, plane=None):
     if len(spread) < 3:
         spread = np.eye(3)
     side = np.asarray(plane.normal, dtype=float) if plane is not None else spread[-1]
-    up = next((_unit(_normal_part(axis, side)) for axis in spread
+    up = next((unit(_normal_part(axis, side)) for axis in spread
                if np.linalg.norm(_normal_part(axis, side)) > 0.5), _any_normal(side))
     return _positive(side), _positive(up)
 
@@ -61,7 +61,7 @@ def _positive(axis):
 def _any_normal(axis):
     """A unit vector normal to the unit `axis`."""
     other = np.eye(3)[int(np.argmin(np.abs(axis)))]
-    return _unit(np.cross(axis, other))
+    return unit(np.cross(axis, other))
 
 
 def chain_reference(joints, side, up, plane=None):
@@ -73,16 +73,16 @@ def chain_reference(joints, side, up, plane=None):
     chord = joints[-1] - joints[0]
     if np.linalg.norm(chord) == 0 and len(joints) > 2:
         chord = joints[1] - joints[0]
-    axis = _unit(chord)
+    axis = unit(chord)
     reference = _straight_reference(axis, side, up)
     offsets = np.array([_normal_part(p - joints[0], axis) for p in joints[1:-1]]).reshape(-1, 3)
     if len(offsets):
         far = offsets[int(np.argmax(np.linalg.norm(offsets, axis=1)))]
         if np.linalg.norm(far) > STRAIGHT * np.linalg.norm(chord):
-            reference = _unit(far)
+            reference = unit(far)
     if plane is not None:
         flat = _normal_part(reference, np.asarray(plane.normal, dtype=float))
-        reference = _unit(flat) if np.linalg.norm(flat) > PARALLEL else \
+        reference = unit(flat) if np.linalg.norm(flat) > PARALLEL else \
             _straight_reference(axis, side, up)
     return reference
 
@@ -92,9 +92,9 @@ def _straight_reference(axis, side, up):
     to it (side itself where both fail, for a zero axis)."""
     across = np.cross(side, axis)
     if np.linalg.norm(across) > PARALLEL:
-        return _unit(across)
+        return unit(across)
     along_up = _normal_part(up, axis) if np.linalg.norm(axis) > 0 else side
-    return _unit(along_up) if np.linalg.norm(along_up) > 0 else side
+    return unit(along_up) if np.linalg.norm(along_up) > 0 else side
 
 
 def z_axes(heads, tails, reference, side, up):
@@ -105,13 +105,13 @@ def z_axes(heads, tails, reference, side, up):
     result = np.zeros_like(heads)
     previous = None
     for b, (head, tail) in enumerate(zip(heads, tails)):
-        along = _unit(tail - head)
+        along = unit(tail - head)
         choices = [reference] + ([previous] if previous is not None else [])
         z = next((_normal_part(c, along) for c in choices
                   if np.linalg.norm(_normal_part(c, along)) > PARALLEL), None)
         if z is None:
             z = _normal_part(_straight_reference(along, side, up), along)
-        result[b] = previous = _unit(z)
+        result[b] = previous = unit(z)
     return result
 
 
@@ -132,7 +132,7 @@ def blender_roll(head, tail, z_axis):
     """The roll (radians, -pi..pi) of Blender's bone from `head` to `tail` whose Z axis is
     (the part normal to the bone of) `z_axis`: the angle about the bone's Y axis from its
     roll-0 Z axis (roll_zero_axes) to z_axis."""
-    y_axis = _unit(np.asarray(tail, dtype=float) - np.asarray(head, dtype=float))
+    y_axis = unit(np.asarray(tail, dtype=float) - np.asarray(head, dtype=float))
     x0, z0 = roll_zero_axes(y_axis)
     z_axis = np.asarray(z_axis, dtype=float)
     return float(np.arctan2(z_axis @ x0, z_axis @ z0))
