@@ -443,8 +443,8 @@ def _root_foot(positions, radii, up, origin):
     Why the origin: an artist puts a character's origin on the floor under it, where game
     engines move it from (the rigged characters' root joints), and in Blender it is the
     object's origin the user sees and moves; 13 of the 14 rigged characters' origins lie
-    over their footprint. It brought the mean CD-J2J / J2B / B2B from 3.70 / 2.35 / 2.70 to
-    3.62 / 2.25 / 2.64 (Q_Wasp's origin lies 14% of its size from its bounding box's centre,
+    over their footprint. It brings the mean CD-J2J / J2B / B2B from 3.70 / 2.40 / 2.73 to
+    3.63 / 2.31 / 2.67 (Q_Wasp's origin lies 14% of its size from its bounding box's centre,
     Fox's and Q_Horse's 6%). An origin off the footprint (a model far from its file's origin)
     says nothing of where the body stands."""
     low = (positions - radii[:, None]).min(axis=0)

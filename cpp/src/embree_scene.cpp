@@ -1,6 +1,7 @@
 #include "embree_scene.h"
 
 #include <atomic>
+#include <cstdlib>
 #include <exception>
 #include <stdexcept>
 #include <thread>
@@ -9,9 +10,14 @@
 
 namespace dcg::internal {
 
+// Embree's device configuration (its `rtcNewDevice` string) is DCG_EMBREE_CONFIG's when that is
+// set: "isa=sse2" runs the kernels another CPU would pick, "verbose=1" names the chosen ones
+// (tests/python/test_determinism.py). Results do not depend on it: every distance
+// the stages read is recomputed in double (SurfaceQuery's exact_hit) and ties go to the lowest
+// face.
 RTCDevice embree_device() {
   static RTCDevice device = [] {
-    RTCDevice d = rtcNewDevice(nullptr);
+    RTCDevice d = rtcNewDevice(std::getenv("DCG_EMBREE_CONFIG"));
     if (!d) throw std::runtime_error("Embree: cannot create a device");
     return d;
   }();
@@ -114,7 +120,6 @@ void intersect8(const int* valid, RTCScene scene, RTCRayHit8* rayhit, bool coher
   if (coherent) arguments.flags = RTC_RAY_QUERY_FLAG_COHERENT;
   rtcIntersect8(valid, scene, rayhit, &arguments);
 }
-void occluded8(const int* valid, RTCScene scene, RTCRay8* ray) { rtcOccluded8(valid, scene, ray); }
 #else
 namespace {
 RTCIntersectContext intersect_context(bool coherent = false) {
@@ -135,10 +140,6 @@ void occluded1(RTCScene scene, RTCRay* ray) {
 void intersect8(const int* valid, RTCScene scene, RTCRayHit8* rayhit, bool coherent) {
   RTCIntersectContext context = intersect_context(coherent);
   rtcIntersect8(valid, scene, &context, rayhit);
-}
-void occluded8(const int* valid, RTCScene scene, RTCRay8* ray) {
-  RTCIntersectContext context = intersect_context();
-  rtcOccluded8(valid, scene, &context, ray);
 }
 #endif
 

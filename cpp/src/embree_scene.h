@@ -44,12 +44,11 @@ RTCRay single_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& directio
 void set_ray_lane(RTCRay8& ray, int k, const float origin[3], const float direction[3], float tnear,
                   float tfar);
 
-/// rtcIntersect1 / rtcOccluded1 / rtcIntersect8 / rtcOccluded8 with default arguments, on Embree 3
-/// or 4. `coherent`: the rays of the packet share an origin (a hint for Embree's traversal).
+/// rtcIntersect1 / rtcOccluded1 / rtcIntersect8 with default arguments, on Embree 3 or 4.
+/// `coherent`: the rays of the packet share an origin (a hint for Embree's traversal).
 void intersect1(RTCScene scene, RTCRayHit* rayhit);
 void occluded1(RTCScene scene, RTCRay* ray);
 void intersect8(const int* valid, RTCScene scene, RTCRayHit8* rayhit, bool coherent);
-void occluded8(const int* valid, RTCScene scene, RTCRay8* ray);
 
 /// The first triangle of `scene` on the ray (rtcIntersect1): its index, -1 for none; its t and
 /// barycentric u, v where asked.

@@ -142,7 +142,9 @@ struct SurfaceQuery::Impl {
     std::array<double, 3> l;
     const Eigen::Vector3d q = closest_on_triangle(c->p, t.a, t.b, t.c, l);
     const double d = (q - c->p).norm();
-    if (d < c->best || (c->face < 0 && d <= c->best)) {
+    // Equal distances (a vertex or edge shared by faces) go to the lowest face: Embree visits
+    // faces in an order that changes with the kernels it picks for the CPU.
+    if (d < c->best || (d == c->best && (c->face < 0 || f < c->face))) {
       c->best = d;
       c->face = f;
       c->q = q;
@@ -209,7 +211,53 @@ struct SurfaceQuery::Impl {
   bool first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double tnear,
                  double tfar, double* t, int* face, double* u, double* v) const {
     *face = internal::first_hit(scene, origin - center, direction, tnear, tfar, t, u, v);
+    if (*face >= 0) *t = exact_hit(*face, origin, direction, *t, u, v);
     return *face >= 0;
+  }
+
+  // Segment tests reach kHitBand (of the segment's length) past both ends of their range, so
+  // that a hit that Embree's float distance puts just outside, and exact_hit inside, is seen;
+  // kHitStep steps past a hit to look for the next.
+  static constexpr double kHitBand = 1e-4, kHitStep = 1e-7;
+
+  // Whether the segment a + t (b - a) meets the surface at some t in [t0, t1] at or after
+  // `from` (distances in double, exact_hit): its hits one by one from `from`.
+  bool blocked_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double from, double t0,
+                       double t1) const {
+    const Eigen::Vector3d d = b - a;
+    for (int hits = 0; hits < 64; ++hits) {
+      double t, u, v;
+      int f;
+      if (!first_hit(a, d, from, t1 + kHitBand, &t, &f, &u, &v) || t > t1) return false;
+      if (t >= t0) return true;
+      from = std::max(t, from) + kHitStep;
+    }
+    return true;  // a fold of many sheets at the range's start: call it blocked
+  }
+
+  // Where origin + t * direction meets the plane of face f, Embree's hit there (t_float, its
+  // float distance) recomputed in double, and the hit's barycentric u, v (of corners b and c)
+  // when asked. Embree picks its kernels (SSE, AVX, AVX2, AVX-512) by the CPU at run time and
+  // their float t, u, v differ in the last bits; the stages' thresholds turned that into
+  // different skeletons of 10 of the 14 rigged characters between SSE2 and AVX2 kernels. In
+  // double, the same face gives the same t on every CPU. A ray along the plane keeps t_float.
+  double exact_hit(int f, const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                   double t_float, double* u = nullptr, double* v = nullptr) const {
+    const Triangle& tri = triangle[static_cast<std::size_t>(f)];
+    const double along = tri.normal.dot(direction);
+    const double t = std::abs(along) > 1e-12 * direction.norm()
+                         ? tri.normal.dot(tri.a - origin) / along
+                         : t_float;
+    if (u && v) {
+      const Eigen::Vector3d e1 = tri.b - tri.a, e2 = tri.c - tri.a, n = e1.cross(e2);
+      const double area2 = n.squaredNorm();
+      if (area2 > 0) {
+        const Eigen::Vector3d ap = origin + t * direction - tri.a;
+        *u = ap.cross(e2).dot(n) / area2;
+        *v = e1.cross(ap).dot(n) / area2;
+      }
+    }
+    return t;
   }
 
   // Parity of ray crossings, majority of 3 non-grazing rays. Returns true when inside.
@@ -371,7 +419,7 @@ double SurfaceQuery::ray_hit(const Eigen::Vector3d& origin, const Eigen::Vector3
 bool SurfaceQuery::segment_inside(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
   if (!inside(a) || !inside(b)) return false;
   if ((a - b).norm() == 0) return true;
-  return !internal::occluded(impl_->scene, a - impl_->center, b - a, 0.0, 1.0);
+  return !segment_blocked(a, b);
 }
 
 }  // namespace dcg
@@ -407,8 +455,13 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
     internal::intersect8(valid, m.scene, &rh, /*coherent=*/false);
     for (int k = 0; k < n; ++k) {
       const bool hit = rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-      t[start + k] =
-          hit ? static_cast<double>(rh.ray.tfar[k]) : std::numeric_limits<double>::infinity();
+      if (hit) {
+        const float* dk = directions + 3 * (start + k);
+        t[start + k] = m.exact_hit(static_cast<int>(rh.hit.primID[k]), origin,
+                                   Eigen::Vector3d(dk[0], dk[1], dk[2]), rh.ray.tfar[k]);
+      } else {
+        t[start + k] = std::numeric_limits<double>::infinity();
+      }
       if (faces) faces[start + k] = hit ? static_cast<int>(rh.hit.primID[k]) : -1;
       if (from_inside) {
         unsigned char inside = 0;
@@ -429,11 +482,13 @@ void SurfaceQuery::ray_fan(const Eigen::Vector3d& origin, const float* direction
 
 void SurfaceQuery::segments_blocked(const double* a, const double* b, int count, double trim,
                                     unsigned char* blocked) const {
+  // The first hit of each segment's ray, its distance in double (Impl::exact_hit), against
+  // the trimmed range [t0, t1] (Impl::kHitBand past its ends): Embree's float occlusion test
+  // answered differently near the range's ends with the CPU's kernels.
   const Impl& m = *impl_;
-  const float t0 = static_cast<float>(std::max(0.0, trim)),
-              t1 = static_cast<float>(std::min(1.0, 1.0 - trim));
+  const double t0 = std::max(0.0, trim), t1 = std::min(1.0, 1.0 - trim);
   for (int start = 0; start < count; start += 8) {
-    alignas(32) RTCRay8 ray;
+    alignas(32) RTCRayHit8 rh;
     alignas(32) int valid[8];
     const int n = std::min(8, count - start);
     for (int k = 0; k < 8; ++k) {
@@ -447,22 +502,32 @@ void SurfaceQuery::segments_blocked(const double* a, const double* b, int count,
                             static_cast<float>(pa[2] - m.center.z())};
       const float dir[3] = {static_cast<float>(pb[0] - pa[0]), static_cast<float>(pb[1] - pa[1]),
                             static_cast<float>(pb[2] - pa[2])};
-      internal::set_ray_lane(ray, k, org, dir, t0, t1);
+      internal::set_ray_lane(rh.ray, k, org, dir,
+                             static_cast<float>(std::max(0.0, t0 - Impl::kHitBand)),
+                             static_cast<float>(t1 + Impl::kHitBand));
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
-    internal::occluded8(valid, m.scene, &ray);
+    internal::intersect8(valid, m.scene, &rh, /*coherent=*/false);
     for (int k = 0; k < n; ++k) {
-      blocked[start + k] = valid[k] && ray.tfar[k] < 0 ? 1 : 0;  // tfar = -inf when occluded
+      const int i = start + k;
+      blocked[i] = 0;
+      if (!valid[k] || rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+      const Eigen::Vector3d pa(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
+      const Eigen::Vector3d pb(b[3 * i], b[3 * i + 1], b[3 * i + 2]);
+      const double t = m.exact_hit(static_cast<int>(rh.hit.primID[k]), pa, pb - pa, rh.ray.tfar[k]);
+      if (t > t1) continue;
+      blocked[i] = t >= t0 || m.blocked_between(pa, pb, t + Impl::kHitStep, t0, t1) ? 1 : 0;
     }
   }
 }
 
 bool SurfaceQuery::segment_blocked(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                    double trim) const {
-  // One ray (rtcOccluded1), the same test as one lane of segments_blocked.
+  // One ray, the same test as one lane of segments_blocked.
   const double t0 = std::max(0.0, trim), t1 = std::min(1.0, 1.0 - trim);
-  if (a == b || !(static_cast<float>(t0) < static_cast<float>(t1))) return false;
-  return internal::occluded(impl_->scene, a - impl_->center, b - a, static_cast<float>(t0),
-                            static_cast<float>(t1));
+  if (a == b || !(t0 < t1)) return false;
+  return impl_->blocked_between(a, b, std::max(0.0, t0 - Impl::kHitBand), t0, t1);
 }
 
 }  // namespace dcg
