@@ -222,6 +222,7 @@ void bind_graph(py::module_& m) {
                         {"faces_filled", &G::faces_filled},
                         {"cycles_rejected_visible", &G::cycles_rejected_visible},
                         {"cycles_rejected_duplicate", &G::cycles_rejected_duplicate},
+                        {"links_bridged", &G::links_bridged},
                         {"pruned", &G::pruned},
                         {"contracted", &G::contracted},
                         {"ends_absorbed", &G::ends_absorbed},

@@ -471,10 +471,12 @@ bool merge_one_joint_pair(GraphWork& w, std::vector<std::vector<int>>& members) 
       const int b = walk_chain(graph, a, first, chain);
       if (b == a || graph.degree(b) < 3) continue;
       // Directly linked junctions (their domain surfaces touch: no body part between them) are
-      // one junction while their balls are less than a ball apart; across a chain only
+      // one junction while their balls are less than the larger ball's radius apart (the
+      // smaller's split Mannequiny's hand, wrist and palm balls 1.1 smaller radii apart, on
+      // one CGAL version and not on another); across a chain only
       // overlapping balls merge (a chain a ball long can be a torso: the cheetah's front and
       // hind junctions, perturbed, came 0.94 balls apart along theirs).
-      const double reach = chain.empty() ? std::min(radii[a], radii[b]) : 0.0;
+      const double reach = chain.empty() ? std::max(radii[a], radii[b]) : 0.0;
       if (junction_gap(w, members[a], members[b], chain) >= reach && !closer_than_wide(w, a, b)) {
         continue;
       }
@@ -488,6 +490,14 @@ bool merge_one_joint_pair(GraphWork& w, std::vector<std::vector<int>>& members) 
     }
   }
   return false;
+}
+
+// Groups the points by the candidate links that stay inside (finite cost): uf's components.
+void inside_parts(const GraphWork& w, UnionFind& uf) {
+  const DomainGraph& g = w.g;
+  for (int l = 0; l < g.candidates.rows(); ++l) {
+    if (std::isfinite(g.costs[l])) uf.unite(g.candidates(l, 0), g.candidates(l, 1));
+  }
 }
 
 }  // namespace
@@ -676,6 +686,48 @@ void link_candidates(GraphWork& w, int cost_samples) {
           w.query.segment_blocked(a, b) ? kInf : w.field.mean_magnitude(a, b, cost_samples);
     }
   });
+}
+
+void bridge_outside_links(GraphWork& w, int cost_samples) {
+  DomainGraph& g = w.g;
+  const int P = w.point_count();
+  std::vector<char> owns(P, 0);
+  for (int f = 0; f < g.face_labels.size(); ++f)
+    if (g.face_labels[f] >= 0) owns[g.face_labels[f]] = 1;
+  UnionFind uf(P);
+  inside_parts(w, uf);
+  std::vector<std::vector<int>> neighbours(P);
+  for (int l = 0; l < g.candidates.rows(); ++l) {
+    neighbours[g.candidates(l, 0)].push_back(g.candidates(l, 1));
+    neighbours[g.candidates(l, 1)].push_back(g.candidates(l, 0));
+  }
+  // (distance, from, to): each link that leaves the shape between two parts, from either of its
+  // points to a neighbour of the other in the other's part (one step along the other side).
+  std::vector<std::tuple<double, int, int>> tries;
+  for (int l = 0; l < g.candidates.rows(); ++l) {
+    const int a = g.candidates(l, 0), b = g.candidates(l, 1);
+    if (std::isfinite(g.costs[l]) || uf.find(a) == uf.find(b)) continue;
+    for (const auto& [from, via] : {std::pair{a, b}, std::pair{b, a}}) {
+      for (int n : neighbours[via]) {
+        if (owns[n] && uf.find(n) == uf.find(via))
+          tries.emplace_back((g.points.row(from) - g.points.row(n)).norm(), from, n);
+      }
+    }
+  }
+  std::sort(tries.begin(), tries.end());
+  for (const auto& [distance, p, q] : tries) {
+    const Eigen::Vector3d a = g.points.row(p).transpose(), b = g.points.row(q).transpose();
+    if (uf.find(p) == uf.find(q) || w.query.segment_blocked(a, b)) continue;
+    uf.unite(p, q);
+    const Eigen::Index l = g.candidates.rows();
+    g.candidates.conservativeResize(l + 1, 2);
+    g.candidates.row(l) << std::min(p, q), std::max(p, q);
+    g.costs.conservativeResize(l + 1);
+    g.costs[l] = w.field.mean_magnitude(a, b, cost_samples);
+    g.candidate_state.conservativeResize(l + 1);
+    g.candidate_state[l] = 0;
+    ++g.links_bridged;
+  }
 }
 
 void spanning_tree(GraphWork& w) {
@@ -898,6 +950,7 @@ DomainGraph compute_domain_graph(const Mesh& mesh, const ForceField& field, cons
   label_faces(w, options.visibility_candidates);
   pass(0.6, 0.9);
   link_candidates(w, options.cost_samples);
+  bridge_outside_links(w, options.cost_samples);
   pass(0.9, 1);  // the graph passes: no loop long enough to need a poll inside
   spanning_tree(w);
   keep_handle_cycles(w, genus);

@@ -103,6 +103,14 @@ void label_faces(GraphWork& w, int visibility_candidates);
 /// Points whose regions share an edge, with the mean |F| along their segment as cost
 /// (infinity when it leaves the shape): g.candidates, g.costs.
 void link_candidates(GraphWork& w, int cost_samples);
+/// Where a candidate link leaves the shape between two parts of the points (grouped by the
+/// links that stay inside), tries from each of its points to the other's neighbours in the
+/// other's part (one step along: a finger whose base faces went to its neighbours' points, to
+/// their palm point), shortest first, and keeps each that stays inside and joins two parts:
+/// new candidates (state 0), g.links_bridged. Kruskal then takes them before any link that
+/// leaves the shape. Never farther: a segmented arm whose shoulder links all leave the body
+/// would hang from any point it reaches inside.
+void bridge_outside_links(GraphWork& w, int cost_samples);
 /// Kruskal's tree by cost, links touching an end point last (so ends are leaves where they
 /// can be); only points that own a face come alive.
 void spanning_tree(GraphWork& w);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <set>
 #include <vector>
@@ -137,18 +138,19 @@ double tube(const Eigen::Vector3d& q, const Eigen::Vector3d& a, const Eigen::Vec
   return (q - (a + t * (b - a))).norm() - r;
 }
 
-// An "H": a torso along z (radius 0.5, half length h) with two arms (radius 0.25, along +-x) at
-// each end of it. Hand-placed points: the two junctions where the arms meet the torso, a point
-// half way along each arm, an end point near each tip and, when `middle`, one torso point
-// between the junctions.
+// An "H": a torso along z (radius 0.5, half length h; its lower half of radius `lower`) with two
+// arms (radius 0.25, along +-x) at each end of it. Hand-placed points: the two junctions where
+// the arms meet the torso, a point half way along each arm, an end point near each tip and,
+// when `middle`, one torso point between the junctions.
 struct HShape {
   Scene scene;
   dcg::Points points;
   Eigen::VectorXi prong;
-  HShape(double h, bool middle)
+  HShape(double h, bool middle, double lower = 0.5)
       : scene(test::marching_tetrahedra(
-            [h](const Eigen::Vector3d& q) {
-              double phi = tube(q, {0, 0, -h}, {0, 0, h}, 0.5);
+            [h, lower](const Eigen::Vector3d& q) {
+              double phi = std::min(tube(q, {0, 0, 0}, {0, 0, h}, 0.5),
+                                    tube(q, {0, 0, -h}, {0, 0, 0}, lower));
               for (double z : {-h, h})
                 for (double x : {-2.5, 2.5})
                   phi = std::min(phi, tube(q, {0, 0, z}, {x, 0, z}, 0.25));
@@ -187,6 +189,15 @@ TEST(DomainGraph, JunctionsLessThanABallApartAreOne) {
   EXPECT_EQ(HShape(0.65, false).joints(), 1);
   // A torso long enough to hold a point of its own between them: two junctions.
   EXPECT_EQ(HShape(1.5, true).joints(), 2);
+  // Balls of 0.5 and 0.3, 1.2 apart: the gap between them (0.4) is more than the smaller
+  // radius and less than the larger. One junction: a hand's wrist and palm balls, linked
+  // directly, came out 1.1 smaller radii apart on one CGAL version and with all four fingers on
+  // one ball on another (Mannequiny); a torso is longer than its larger ball.
+  const HShape tapered(0.6, false, 0.3);
+  const Eigen::VectorXd r = tapered.scene.radii(tapered.points);
+  ASSERT_NEAR(r[0], 0.5, 0.03);
+  ASSERT_NEAR(r[1], 0.3, 0.03);
+  EXPECT_EQ(tapered.joints(), 1);
 }
 
 // Hand-placed points in a shape, those listed in `ends` being end points (prong >= 0).
@@ -308,6 +319,61 @@ TEST(DomainGraph, TwoEndsAreNeverContracted) {
   EXPECT_TRUE(w.graph.alive[A] && w.graph.alive[B]);
   EXPECT_EQ(w.graph.adj[A], Neighbours{B});
   EXPECT_EQ(w.g.contracted, 0);
+}
+
+// Stage 6's graph work on hand-placed points in a fat torus (ring radius 1, tube 0.48: the
+// hole is 0.52 wide), every point owning a third of the faces, with the candidate links given
+// (cost infinity: the segment leaves the shape) and bridge_outside_links run on them.
+dcg::internal::GraphWork bridged(const Placed& s, const std::vector<std::pair<int, int>>& links,
+                                 const std::vector<double>& costs) {
+  dcg::internal::GraphWork w(s.scene.mesh, *s.scene.field, s.points, s.scene.radii(s.points),
+                             s.prong);
+  w.g.face_labels.resize(s.scene.mesh.F.rows());
+  for (Eigen::Index f = 0; f < w.g.face_labels.size(); ++f)
+    w.g.face_labels[f] = static_cast<int>(f % s.points.rows());
+  w.g.candidates.resize(static_cast<Eigen::Index>(links.size()), 2);
+  w.g.costs.resize(static_cast<Eigen::Index>(links.size()));
+  for (std::size_t l = 0; l < links.size(); ++l) {
+    w.g.candidates.row(static_cast<Eigen::Index>(l)) << links[l].first, links[l].second;
+    w.g.costs[static_cast<Eigen::Index>(l)] = costs[l];
+  }
+  w.g.candidate_state = Eigen::VectorXi::Zero(w.g.costs.size());
+  dcg::internal::bridge_outside_links(w, dcg::DomainGraphOptions().cost_samples);
+  return w;
+}
+
+TEST(DomainGraph, APartCutOffByOutsideLinksIsBridgedInside) {
+  // Point 0 at (0.65, 0, 0) is a part of its own: its only candidate, to point 1 across the hole
+  // (1.3 away), leaves the shape, as a finger's did whose base faces went to its neighbours'
+  // points. Its bridge goes one step along from 1, to 1's neighbour 2 on the ring, 1.45 away
+  // but through the inside.
+  const double inf = std::numeric_limits<double>::infinity();
+  const Placed s(test::torus(1.0, 0.48, 64, 32), {{0.65, 0, 0}, {-0.65, 0, 0}, {0, 1.3, 0}}, {});
+  dcg::internal::GraphWork w = bridged(s, {{0, 1}, {1, 2}}, {inf, 1.0});
+  ASSERT_EQ(w.g.links_bridged, 1);
+  ASSERT_EQ(w.g.candidates.rows(), 3);
+  EXPECT_EQ(w.g.candidates(2, 0), 0);
+  EXPECT_EQ(w.g.candidates(2, 1), 2);
+  EXPECT_TRUE(std::isfinite(w.g.costs[2]));
+  dcg::internal::spanning_tree(w);
+  EXPECT_EQ(w.g.candidate_state[0], 0) << "the link through the hole is not taken";
+  EXPECT_EQ(w.g.candidate_state[2], 1);
+  // Points already joined by links inside get no bridge.
+  dcg::internal::bridge_outside_links(w, dcg::DomainGraphOptions().cost_samples);
+  EXPECT_EQ(w.g.links_bridged, 1);
+}
+
+TEST(DomainGraph, ABridgeGoesOnlyOneStepAlongTheOutsideLink) {
+  // As above, but 1's only neighbour, 2 at (-1.3, 0, 0), lies across the hole from 0 too; 3 at
+  // (0, 1.3, 0), which 0 reaches inside, hangs from 2: it is no neighbour of the points whose
+  // surfaces touch 0's, so 0 keeps its outside link (as an arm did whose shoulder links all
+  // left a segmented body: a bridge to any point it reached inside hung it from its finger).
+  const double inf = std::numeric_limits<double>::infinity();
+  const Placed s(test::torus(1.0, 0.48, 64, 32),
+                 {{0.65, 0, 0}, {-0.65, 0, 0}, {-1.3, 0, 0}, {0, 1.3, 0}}, {});
+  const dcg::internal::GraphWork w = bridged(s, {{0, 1}, {1, 2}, {2, 3}}, {inf, 1.0, 1.0});
+  EXPECT_EQ(w.g.links_bridged, 0);
+  EXPECT_EQ(w.g.candidates.rows(), 3);
 }
 
 TEST(DomainGraph, BadInputIsRefused) {

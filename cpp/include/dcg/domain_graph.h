@@ -18,7 +18,12 @@
 //   3. faces still without a label take the label of the nearest labelled face (Dijkstra over
 //      shared edges by centroid distance: nearest first).
 // Links: two points are linked when their regions share an edge. Cost = mean |F| over
-// `cost_samples` points inside the segment; infinity when the segment leaves the shape.
+// `cost_samples` points inside the segment; infinity when the segment leaves the shape. A link
+// that leaves the shape between two parts of the points (grouped by the links that stay
+// inside) gets a bridge where one exists: from one of its points to a neighbour of the other,
+// in the other's part, by a segment inside, shortest first (a finger whose base faces went to
+// its neighbours' points reached the hand only through them, outside; its bridge goes to their
+// palm point).
 //
 // The kept graph:
 //   - Kruskal's minimum spanning tree by cost, links that touch an end point taken after all
@@ -46,13 +51,15 @@
 //     chain and the smaller junction merge into the larger one (never across a cycle); a merged
 //     junction is the union of its balls for the next test. Two junctions linked directly (no
 //     connection point between them: their domain surfaces touch, no part of the body lies
-//     between them) merge while the gap between their balls is less than the smaller radius,
+//     between them) merge while the gap between their balls is less than the larger radius,
 //     i.e. when they are neighbouring balls of one part (domain balls of a part are about a ball
 //     apart): a squat torso (the knight's) has its hip and shoulder balls anywhere from
 //     overlapping to 2/3 of a radius apart depending on the draw (rotation, noise, seed), while
 //     a torso long enough to hold a connection point of its own (the cheetah's) keeps two
-//     joints. Which of two nearby junctions a limb hangs from changes under small
-//     perturbations; their union does not;
+//     joints; a wrist ball and a smaller palm ball, linked directly, 1.1 palm radii apart,
+//     are one hand (Mannequiny's on CGAL 6: the smaller radius split its fingers two and two).
+//     Which of two nearby junctions a limb hangs from changes under small perturbations; their
+//     union does not;
 //   - a shape that shrinks to a single point (a sphere) gets a spine: two more points on its
 //     principal axis, half way from that point to the surface on either side (they own no face);
 //   - kinds by degree: 1 end, >= 3 joint, else connection (an end point on a cycle becomes a
@@ -104,6 +111,9 @@ struct DomainGraph {
   /// shape (its centroid inside and seeing all of them: a crotch, not a handle)
   int cycles_rejected_visible = 0;
   int cycles_rejected_duplicate = 0;  ///< candidates duplicating a kept cycle
+  /// candidates added between parts that the links staying inside left apart (one step along
+  /// a link that leaves the shape, by a segment inside; appended after the region-sharing ones)
+  int links_bridged = 0;
   // --- the kept graph ---------------------------------------------------------------------
   std::vector<int> nodes;         ///< #N the point each node is
   Edges links;                    ///< #K node pairs (indices into nodes)
