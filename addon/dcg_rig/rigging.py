@@ -85,7 +85,8 @@ def plan_bones(skeleton, bone_detail, bone_names, root_bone=options.ADDON_DEFAUL
     user should be told of it
     (dcg.rig_warnings.plan_warnings: the fallback skeleton, Mixamo's names asked of a skeleton
     that is not humanoid, limbs of a shape that mirrors itself that did not pair, paired bones
-    mirrored across a plane that lies level); `dcg batch` records the same."""
+    mirrored across a plane that lies level, paired bones that do not mirror each other);
+    `dcg batch` records the same."""
     engine = _engine.require()
     where = {} if origin is None else {"origin": tuple(origin)}
     plan = engine.bones.plan_bones(skeleton, bone_detail, bone_names.lower(),

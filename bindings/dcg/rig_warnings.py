@@ -11,8 +11,19 @@ from __future__ import annotations
 
 from typing import List, Optional
 
-from .bones import (BONE_NAMES, ROOT_BONE, UP, has_sided_bones, lies_level, plan_plane,
-                    unpaired_limbs)
+import numpy as np
+
+from .bones import (BONE_NAMES, ROOT_BONE, UP, bone_arrays, has_sided_bones, lies_level,
+                    plan_plane, unpaired_limbs)
+from .metrics import mirror_error
+
+#: Paired bones whose heads or tails lie farther than this from their partner's mirror image
+#: (in % of the skeleton's longest side, its balls included: about the mesh's) are said: the
+#: two sides' skeletons differed and a mirrored joint would have left the mesh (the planner then
+#: moves each only part way, dcg.symmetry.settle), so X-Axis Mirror and Paste Pose Flipped pair
+#: bones that do not match. Issue 17 asks for pairs within 1%; the rigged characters are within
+#: 0.98% on Debian 12, one leg of Q_Spider 11.8% off on Debian 13 (its end point at the knee).
+MIRROR_WARNING = 1.0
 
 
 def fallback_warning(method: str) -> Optional[str]:
@@ -40,7 +51,8 @@ def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROO
     - limbs of a shape that mirrors itself that did not pair (dcg.bones.unpaired_limbs across
       `up`);
     - paired bones mirrored across a plane that lies level (dcg.bones.lies_level across `up`:
-      a model lying on its side), the root bone then on that plane when `root_bone`.
+      a model lying on its side), the root bone then on that plane when `root_bone`;
+    - paired bones farther than MIRROR_WARNING from mirroring each other (`mirror_gap`).
     """
     from .humanoid import is_mixamo  # humanoid plans with dcg.bones, which this module reads
 
@@ -63,4 +75,25 @@ def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROO
                         + (", and the root bone sits on that plane, off the floor" if root_bone
                            else "") + "; stand the model upright and rig again for left and "
                         "right")
+    gap = mirror_gap(skeleton, plan, up)
+    if gap is not None and gap > MIRROR_WARNING:
+        warnings.append(f"some .L / .R bones do not mirror each other (up to {gap:.1f}% of the "
+                        "model's size apart): the two sides' skeletons differ there and a "
+                        "mirrored joint would have left the mesh; X-Axis Mirror and Paste Pose "
+                        "Flipped pair them as they are")
     return warnings
+
+
+def mirror_gap(skeleton, plan, up=None) -> Optional[float]:
+    """The largest distance from a .L bone's head or tail of `plan` mirrored across the plan's
+    plane (dcg.bones.plan_plane across `up`) to its .R partner's, in % of the longest side of
+    the skeleton's box with its balls (about the mesh's); None without a plane or pairs."""
+    plane = plan_plane(skeleton, UP if up is None else up)
+    if plane is None:
+        return None
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    radii = np.asarray(skeleton.radii, dtype=float).reshape(-1, 1)
+    box = np.array([(positions - radii).min(axis=0), (positions + radii).max(axis=0)])
+    arrays = bone_arrays(plan)
+    return mirror_error(box, arrays["names"], arrays["heads"], arrays["tails"], plane.normal,
+                        plane.offset)["mirror_max"]
