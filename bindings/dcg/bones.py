@@ -408,7 +408,7 @@ def add_root(plan, skeleton, plane=None, up=UP, origin=None):
     up = up / max(float(np.linalg.norm(up)), 1e-300)
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     radii = np.asarray(skeleton.radii, dtype=float).reshape(-1)
-    low, high = (positions - radii[:, None]).min(axis=0), (positions + radii[:, None]).max(axis=0)
+    low, high = balls_box(positions, radii)
     over = _root_foot(positions, radii, up, origin)
     head = over - (over @ up - float(np.min(positions @ up - radii))) * up
     level = plane is not None and lies_level(plane, up)
@@ -435,6 +435,12 @@ def add_root(plan, skeleton, plane=None, up=UP, origin=None):
     return [root] + children
 
 
+def balls_box(positions, radii):
+    """(low, high): the bounding box of the skeleton's balls (positions #N by 3, radii #N),
+    about the mesh's."""
+    return (positions - radii[:, None]).min(axis=0), (positions + radii[:, None]).max(axis=0)
+
+
 def _root_foot(positions, radii, up, origin):
     """The point the root bone stands under: `origin` (a 3-vector, or None) when it lies over
     the footprint of the balls (positions #N by 3, radii #N) across unit `up` (within their
@@ -447,8 +453,7 @@ def _root_foot(positions, radii, up, origin):
     3.63 / 2.31 / 2.67 (Q_Wasp's origin lies 14% of its size from its bounding box's centre,
     Fox's and Q_Horse's 6%). An origin off the footprint (a model far from its file's origin)
     says nothing of where the body stands."""
-    low = (positions - radii[:, None]).min(axis=0)
-    high = (positions + radii[:, None]).max(axis=0)
+    low, high = balls_box(positions, radii)
     centre = (low + high) / 2.0
     if origin is None:
         return centre

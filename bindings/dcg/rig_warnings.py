@@ -13,8 +13,8 @@ from typing import List, Optional
 
 import numpy as np
 
-from .bones import (BONE_NAMES, ROOT_BONE, UP, bone_arrays, has_sided_bones, lies_level,
-                    plan_plane, unpaired_limbs)
+from .bones import (BONE_NAMES, ROOT_BONE, UP, balls_box, bone_arrays, has_sided_bones,
+                    lies_level, plan_plane, unpaired_limbs)
 from .metrics import mirror_error
 
 #: Paired bones whose heads or tails lie farther than this from their partner's mirror image
@@ -69,13 +69,14 @@ def plan_warnings(skeleton, plan, names: str = BONE_NAMES, root_bone: bool = ROO
         warnings.append(f"the shape mirrors itself, but {unpaired} limbs did not pair (their "
                         "skeletons differ, e.g. one leg hangs from the hips, its mirror image "
                         "from the chest): they keep plain names and do not mirror each other")
-    if has_sided_bones(plan) and lies_level(plan_plane(skeleton, up), up):
+    plane = plan_plane(skeleton, up)
+    if has_sided_bones(plan) and lies_level(plane, up):
         warnings.append("the mirror plane lies level, as if the model lay on its side: the .L "
                         "/ .R bones are its upper and lower halves"
                         + (", and the root bone sits on that plane, off the floor" if root_bone
                            else "") + "; stand the model upright and rig again for left and "
                         "right")
-    gap = mirror_gap(skeleton, plan, up)
+    gap = _mirror_gap(skeleton, plan, plane)
     if gap is not None and gap > MIRROR_WARNING:
         warnings.append(f"some .L / .R bones do not mirror each other (up to {gap:.1f}% of the "
                         "model's size apart): the two sides' skeletons differ there and a "
@@ -88,12 +89,15 @@ def mirror_gap(skeleton, plan, up=None) -> Optional[float]:
     """The largest distance from a .L bone's head or tail of `plan` mirrored across the plan's
     plane (dcg.bones.plan_plane across `up`) to its .R partner's, in % of the longest side of
     the skeleton's box with its balls (about the mesh's); None without a plane or pairs."""
-    plane = plan_plane(skeleton, UP if up is None else up)
+    return _mirror_gap(skeleton, plan, plan_plane(skeleton, UP if up is None else up))
+
+
+def _mirror_gap(skeleton, plan, plane):
+    """mirror_gap across `plane` (the plan's, or None)."""
     if plane is None:
         return None
-    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
-    radii = np.asarray(skeleton.radii, dtype=float).reshape(-1, 1)
-    box = np.array([(positions - radii).min(axis=0), (positions + radii).max(axis=0)])
+    box = balls_box(np.asarray(skeleton.positions, dtype=float).reshape(-1, 3),
+                    np.asarray(skeleton.radii, dtype=float).reshape(-1))
     arrays = bone_arrays(plan)
-    return mirror_error(box, arrays["names"], arrays["heads"], arrays["tails"], plane.normal,
-                        plane.offset)["mirror_max"]
+    return mirror_error(np.array(box), arrays["names"], arrays["heads"], arrays["tails"],
+                        plane.normal, plane.offset)["mirror_max"]

@@ -492,6 +492,14 @@ bool merge_one_joint_pair(GraphWork& w, std::vector<std::vector<int>>& members) 
   return false;
 }
 
+// Which points own a face (#P; only they come alive in the graph).
+std::vector<char> face_owners(const DomainGraph& g) {
+  std::vector<char> owns(g.points.rows(), 0);
+  for (int f = 0; f < g.face_labels.size(); ++f)
+    if (g.face_labels[f] >= 0) owns[g.face_labels[f]] = 1;
+  return owns;
+}
+
 // Groups the points by the candidate links that stay inside (finite cost): uf's components.
 void inside_parts(const GraphWork& w, UnionFind& uf) {
   const DomainGraph& g = w.g;
@@ -691,9 +699,7 @@ void link_candidates(GraphWork& w, int cost_samples) {
 void bridge_outside_links(GraphWork& w, int cost_samples) {
   DomainGraph& g = w.g;
   const int P = w.point_count();
-  std::vector<char> owns(P, 0);
-  for (int f = 0; f < g.face_labels.size(); ++f)
-    if (g.face_labels[f] >= 0) owns[g.face_labels[f]] = 1;
+  const std::vector<char> owns = face_owners(g);
   UnionFind uf(P);
   inside_parts(w, uf);
   std::vector<std::vector<int>> neighbours(P);
@@ -715,27 +721,32 @@ void bridge_outside_links(GraphWork& w, int cost_samples) {
     }
   }
   std::sort(tries.begin(), tries.end());
+  std::vector<std::pair<int, int>> bridges;
   for (const auto& [distance, p, q] : tries) {
-    const Eigen::Vector3d a = g.points.row(p).transpose(), b = g.points.row(q).transpose();
-    if (uf.find(p) == uf.find(q) || w.query.segment_blocked(a, b)) continue;
+    if (uf.find(p) == uf.find(q) ||
+        w.query.segment_blocked(g.points.row(p).transpose(), g.points.row(q).transpose()))
+      continue;
     uf.unite(p, q);
-    const Eigen::Index l = g.candidates.rows();
-    g.candidates.conservativeResize(l + 1, 2);
-    g.candidates.row(l) << std::min(p, q), std::max(p, q);
-    g.costs.conservativeResize(l + 1);
-    g.costs[l] = w.field.mean_magnitude(a, b, cost_samples);
-    g.candidate_state.conservativeResize(l + 1);
-    g.candidate_state[l] = 0;
-    ++g.links_bridged;
+    bridges.emplace_back(std::min(p, q), std::max(p, q));
   }
+  const Eigen::Index L = g.candidates.rows(), B = static_cast<Eigen::Index>(bridges.size());
+  g.candidates.conservativeResize(L + B, 2);
+  g.costs.conservativeResize(L + B);
+  g.candidate_state.conservativeResize(L + B);
+  for (Eigen::Index k = 0; k < B; ++k) {
+    const auto [p, q] = bridges[k];
+    g.candidates.row(L + k) << p, q;
+    g.costs[L + k] = w.field.mean_magnitude(g.points.row(p).transpose(),
+                                            g.points.row(q).transpose(), cost_samples);
+    g.candidate_state[L + k] = 0;
+  }
+  g.links_bridged += static_cast<int>(B);
 }
 
 void spanning_tree(GraphWork& w) {
   DomainGraph& g = w.g;
   const int P = w.point_count(), L = static_cast<int>(g.candidates.rows());
-  w.has_face.assign(P, 0);
-  for (int f = 0; f < g.face_labels.size(); ++f)
-    if (g.face_labels[f] >= 0) w.has_face[g.face_labels[f]] = 1;
+  w.has_face = face_owners(g);
   for (int p = 0; p < P; ++p) w.graph.set_alive(p, w.has_face[p] != 0);
   w.tree_order.resize(L);
   std::iota(w.tree_order.begin(), w.tree_order.end(), 0);
