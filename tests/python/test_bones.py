@@ -180,6 +180,19 @@ def test_two_bends_are_both_found_exactly():
     assert bones.articulations(points, np.full(len(points), 0.1), 3) == [0, 1, 5, 7]
 
 
+def test_a_long_straight_span_is_split_though_the_bends_lie_elsewhere():
+    # 20 straight segments, then a zigzag of 10: by the bends alone the joints fall at points 0,
+    # 1, 19 and 27 to 30, and the bone from 1 to 19 is 3.3 mean bones (arc length / 6) long.
+    straight = [[0.5 * i, 0, 0] for i in range(21)]
+    zigzag = [[10 + 0.5 * i, 0, 0.4 * (i % 2)] for i in range(1, 11)]
+    points = np.array(straight + zigzag, float)
+    arc = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    joints = bones.articulations(points, np.full(len(points), 0.2), 6)
+    longest = np.diff(arc[joints]).max()
+    assert longest <= bones.LONGEST_BONE * arc[-1] / 6
+    assert sum(1 for j in joints if j > 20) >= 3  # the zigzag still holds most joints
+
+
 def test_a_straight_limb_gets_its_joint_where_it_narrows(no_inset):
     for thin in (1, 2, 3):
         radii = [0.3] * 5
