@@ -87,6 +87,9 @@ LONGEST_BONE = 3.0
 #: The cost (in the squared mean radii of `articulations`) of each bone longer than that: far
 #: above any fit, but finite, so that a plan always exists.
 OVERLONG = 1e6
+#: A limb's polyline point where it turns back by more than this many degrees is dropped
+#: (`unfolded`).
+FOLD_BACK = 120.0
 #: An end bone's tail stops this many radii (at its head) short of the end node.
 END_INSET = 1.0
 #: Whether a plan starts with a root bone (`add_root`): a control on the floor under the body,
@@ -335,14 +338,41 @@ def limb_polyline(skeleton, limb):
         nodes += [-1] * len(inner) + [stop]
         segment_links += [link] * (len(inner) + 1)
         inner_radii += list(radii[1:-1]) + [np.nan]  # a node keeps its own radius
-    points, nodes = np.array(points), np.array(nodes)
+    keep = unfolded(np.array(points), np.array(nodes))
+    points, nodes, inner_radii = np.array(points)[keep], np.array(nodes)[keep], \
+        np.array(inner_radii)[keep]
+    segment_links = np.array(segment_links, dtype=np.int64)[keep[1:] - 1]
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
     at = np.flatnonzero(nodes >= 0)
     radii = np.interp(arc, arc[at], np.asarray(skeleton.radii, dtype=float)[nodes[at]])
-    inner_radii = np.array(inner_radii)
     known = np.isfinite(inner_radii) & (inner_radii > 0)
     radii[known] = inner_radii[known]
-    return points, nodes, np.array(segment_links, dtype=np.int64), radii
+    return points, nodes, segment_links, radii
+
+
+def unfolded(points, nodes):
+    """The indices of the points of a polyline (#P by 3; nodes #P, -1 between nodes) kept once
+    its fold-backs are gone: an inner point where the polyline turns back on itself (by more
+    than FOLD_BACK degrees from the kept point before it to the next) is dropped, and so on
+    back while the points before turn back too; the ends and the nodes are always kept.
+
+    Why: a link the engine routed around a wall inside the shape can go out and back (each
+    elbow of Mannequiny, whose segmented arm is 59 parts in one: 0.40 -> 0.50 -> 0.42 along
+    the arm, and two legs of Q_Spider), and a joint on such a point gave bones that point back
+    along the limb (12 of the 23 such bone pairs of the meshes `make bench` rigs; the others
+    turn back at a node, where two links of the graph run side by side)."""
+    limit = np.cos(np.radians(FOLD_BACK))
+    keep = [0]
+    for index in range(1, len(points)):
+        while len(keep) >= 2 and nodes[keep[-1]] < 0:
+            before = points[keep[-1]] - points[keep[-2]]
+            after = points[index] - points[keep[-1]]
+            scale = float(np.linalg.norm(before) * np.linalg.norm(after))
+            if not (scale > 0 and before @ after < limit * scale):
+                break
+            keep.pop()
+        keep.append(index)
+    return np.array(keep, dtype=np.int64)
 
 
 def plan_bones(skeleton, bone_detail=BONE_DETAIL, names=BONE_NAMES, limb_fractions=None,

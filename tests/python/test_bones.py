@@ -193,6 +193,26 @@ def test_a_long_straight_span_is_split_though_the_bends_lie_elsewhere():
     assert sum(1 for j in joints if j > 20) >= 3  # the zigzag still holds most joints
 
 
+def test_a_polyline_that_goes_out_and_back_loses_the_fold_but_keeps_bends_and_nodes():
+    # Along x: 0, 1, 2, out to 3.5, back to 2.2 and 2.6 (Mannequiny's elbow route, which
+    # goes around a wall inside the shape), on to 4, then a right angle up to z = 2.
+    points = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [3.5, 0, 0.1], [2.2, 0, 0],
+                       [2.6, 0, 0], [4, 0, 0], [4, 0, 1], [4, 0, 2]], float)
+    inner = np.full(len(points), -1)
+    inner[[0, -1]] = [0, 1]
+    assert bones.unfolded(points, inner).tolist() == [0, 1, 2, 4, 5, 6, 7, 8]
+    at_node = inner.copy()
+    at_node[3] = 7  # a node where it turns back stays (links meet there), the way back goes
+    assert bones.unfolded(points, at_node).tolist() == [0, 1, 2, 3, 6, 7, 8]
+    # And the limb's polyline is the unfolded one (the node at its far end kept).
+    skeleton = skeleton_of([points[0], points[-1]], ["joint", "end"], [[0, 1]], [points],
+                           radii=[0.2, 0.2])
+    kept = bones.limb_polyline(skeleton, bones.limbs(skeleton)[0])
+    assert np.allclose(kept[0], points[[0, 1, 2, 4, 5, 6, 7, 8]])
+    assert kept[1].tolist() == [0, -1, -1, -1, -1, -1, -1, 1]
+    assert len(kept[2]) == 7 and len(kept[3]) == 8
+
+
 def test_a_straight_limb_gets_its_joint_where_it_narrows(no_inset):
     for thin in (1, 2, 3):
         radii = [0.3] * 5
@@ -475,7 +495,8 @@ def test_limbs_whose_ends_and_starts_mirror_pair_on_a_shape_that_mirrors_itself(
     # polylines no longer mirror, their ends and starts do. On a surface that mirrors itself
     # they pair and the right leg becomes the left one's mirror image; else they stay apart.
     skeleton = body()
-    skeleton.polylines[4] = np.array([[0, 0, 0], [-0.1, 1.0, -0.1], [-0.3, 0, -0.6]])
+    skeleton.polylines[4] = np.array([[0, 0, 0], [-0.05, 0.9, -0.1], [-0.25, 0.9, -0.5],
+                                      [-0.3, 0, -0.6]])
     chains = bones.limbs(skeleton)
     points = [bones.limb_polyline(skeleton, limb)[0] for limb in chains]
     ends = [limb[-1][2] for limb in chains]
