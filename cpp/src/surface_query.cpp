@@ -372,6 +372,11 @@ Eigen::Vector3d SurfaceQuery::closest_point(const Eigen::Vector3d& p, int* face)
   return impl_->closest(p, face, nullptr);
 }
 
+Eigen::Vector3d SurfaceQuery::closest_point(const Eigen::Vector3d& p, const Eigen::Vector3d& hint,
+                                            int hint_face, int* face) const {
+  return impl_->closest(p, face, nullptr, &hint, hint_face);
+}
+
 double SurfaceQuery::distance(const Eigen::Vector3d& p) const {
   return (impl_->closest(p, nullptr, nullptr) - p).norm();
 }

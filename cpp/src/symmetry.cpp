@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -41,10 +42,19 @@ struct Plane {
 struct Fit {
   double error = 0;
   Plane refit;
+  std::vector<Eigen::Vector3d> partners;  // each mirrored sample's closest surface point
+  std::vector<int> faces;                 // and its face (-1: none)
 };
 
-Fit mirror_fit(const Eigen::MatrixX3d& samples, const Plane& plane, const SurfaceQuery& surface) {
+// `near` (the fit of the same samples across a plane close to this one, or null) gives each
+// mirrored sample a hint, its partner there: the closest points come out the same, the searches
+// bounded by it (the refits' planes move little, their partners too).
+Fit mirror_fit(const Eigen::MatrixX3d& samples, const Plane& plane, const SurfaceQuery& surface,
+               const Fit* near = nullptr) {
   Fit fit;
+  fit.partners.resize(static_cast<std::size_t>(samples.rows()));
+  fit.faces.assign(static_cast<std::size_t>(samples.rows()), -1);
+  const bool hinted = near && near->faces.size() == fit.faces.size();
   const Eigen::Vector3d centre = samples.colwise().mean().transpose();
   const Eigen::Vector3d& n = plane.normal;
   const double d = plane.offset - n.dot(centre);  // the plane n . (x - centre) = d
@@ -56,7 +66,12 @@ Fit mirror_fit(const Eigen::MatrixX3d& samples, const Plane& plane, const Surfac
     const double side = n.dot(p) - d;
     const Eigen::Vector3d mirrored = p - 2 * side * n;
     int face = -1;
-    const Eigen::Vector3d partner = surface.closest_point(mirrored + centre, &face) - centre;
+    const auto k = static_cast<std::size_t>(i);
+    const Eigen::Vector3d at = mirrored + centre;
+    fit.partners[k] = hinted ? surface.closest_point(at, near->partners[k], near->faces[k], &face)
+                             : surface.closest_point(at, &face);
+    fit.faces[k] = face;
+    const Eigen::Vector3d partner = fit.partners[k] - centre;
     fit.error += (partner - mirrored).norm();
     if (face < 0) continue;
     const Eigen::Vector3d& m = surface.face_normal(face);
@@ -85,17 +100,18 @@ struct Tried {
   Fit fit;
 };
 
-Tried tried(const Eigen::MatrixX3d& samples, const Plane& plane, const SurfaceQuery& surface) {
-  return {plane, mirror_fit(samples, plane, surface)};
+Tried tried(const Eigen::MatrixX3d& samples, const Plane& plane, const SurfaceQuery& surface,
+            const Fit* near = nullptr) {
+  return {plane, mirror_fit(samples, plane, surface, near)};
 }
 
 // `start` refitted while that lowers its error, at most `rounds` times.
 Tried polished(const Eigen::MatrixX3d& samples, Tried start, int rounds,
                const SurfaceQuery& surface) {
   for (int round = 0; round < rounds; ++round) {
-    Tried next = tried(samples, start.fit.refit, surface);
+    Tried next = tried(samples, start.fit.refit, surface, &start.fit);
     if (!(next.fit.error < start.fit.error)) break;
-    start = next;
+    start = std::move(next);
   }
   return start;
 }

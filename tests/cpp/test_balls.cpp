@@ -55,6 +55,13 @@ TEST(SurfaceQuery, ClosestPointAndInsideMatchBruteForce) {
     // A hint anywhere on the surface gives the same answer.
     EXPECT_NEAR(q.signed_distance(p, m.V.row(m.F(7, 0)).transpose(), 7), q.signed_distance(p),
                 1e-12);
+    // The closest point too, bit for bit, with a far hint or the answer itself as the hint.
+    for (const auto& [hint, hint_face] :
+         {std::pair<Eigen::Vector3d, int>{m.V.row(m.F(7, 0)).transpose(), 7}, {c, face}}) {
+      int hinted_face = -1;
+      EXPECT_EQ(q.closest_point(p, hint, hint_face, &hinted_face), c);
+      EXPECT_EQ(hinted_face, face);
+    }
   }
 }
 

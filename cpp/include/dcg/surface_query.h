@@ -28,6 +28,10 @@ class SurfaceQuery {
 
   /// Closest point on the surface to p; `face` (if given) receives its face index.
   Eigen::Vector3d closest_point(const Eigen::Vector3d& p, int* face = nullptr) const;
+  /// The same with a hint, a point on face `hint_face` near p (as for signed_distance below):
+  /// the result does not depend on it. hint_face < 0: no hint.
+  Eigen::Vector3d closest_point(const Eigen::Vector3d& p, const Eigen::Vector3d& hint,
+                                int hint_face, int* face = nullptr) const;
   /// Unsigned distance from p to the surface.
   double distance(const Eigen::Vector3d& p) const;
   /// Distance to the surface, negative inside (the sign of inside()); 0 on the surface.
