@@ -454,6 +454,21 @@ def stages_0_3(row):
     return [name for name in row.get("stages", {}) if STAGES_0_3.search(name)]
 
 
+def elapsed_0_3(row):
+    """The seconds from the start of stage 0 to the end of stage 3: the sum of their timings,
+    less what of it ran at the same time. The engine runs stage 3, then the shape's mirror plane
+    (`symmetry`), on a second thread beside stages 1-2 (`Extractor::prongs_beside_balls`), and
+    its total leaves out the overlap; so the overlap is the sum of all the timings less the
+    total, and with one the span is stages 0-3 and `symmetry` less it (the plane ran inside
+    the span). Without one (a single thread) it is the sum of stages 0-3."""
+    stages = row["stages"]
+    counted = sum(stages[name] for name in stages_0_3(row))
+    overlap = sum(stages.values()) - row["total"]
+    if overlap <= 0:
+        return counted
+    return counted + stages.get("symmetry", 0.0) - overlap
+
+
 def target_lines(rows, stage_names):
     by_name = {row["mesh"]: row for row in rows}
     has_stage_3 = any(STAGES_0_3.search(n) and not re.match(r"^(prepare|voronoi_balls|domain_balls)$", n)
@@ -468,7 +483,7 @@ def target_lines(rows, stage_names):
             continue
         stages = row["stages"]
         counted = stages_0_3(row) if what == "stages 0-3" else list(stages)
-        measured = sum(stages[n] for n in counted) if what == "stages 0-3" else row["total"]
+        measured = elapsed_0_3(row) if what == "stages 0-3" else row["total"]
         if measured <= limit:
             result = f"**met** ({measured / limit:.0%} of the limit)"
         else:
@@ -486,7 +501,10 @@ def target_lines(rows, stage_names):
     if not has_stage_3:
         notes.append("No stage-3 (prong features) timing is in the results yet: the stages 0-3 "
                      "rows count stages 0-2 only.")
-    notes.append("Whole pipeline = the engine's own total over every timed stage.")
+    notes.append("Stages 0-3 = their elapsed time: stage 3 and the mirror plane run on a second "
+                 "thread beside stages 1-2, so the stages' own times add up to more "
+                 "(`elapsed_0_3`). Whole pipeline = the engine's own total over every timed "
+                 "stage, the overlap left out likewise.")
     return lines, notes
 
 
