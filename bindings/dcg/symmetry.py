@@ -234,9 +234,14 @@ def pair_by_ends(plane, skeleton, limb_starts, limb_ends, tips, sides):
     return result
 
 
+def arc_lengths(points):
+    """#P: each point's arc length along the polyline `points` (#P by 3), from its first."""
+    return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+
+
 def arc_fractions(points):
     """#P: each point's arc length along the polyline `points`, over the whole (0 to 1)."""
-    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    arc = arc_lengths(points)
     return arc / arc[-1] if arc[-1] > 0 else np.linspace(0.0, 1.0, len(points))
 
 
