@@ -89,6 +89,7 @@ EndPoints find_end_points(const Prongs& prongs, const Balls& balls, const Surfac
     // so sorting all of them (a stage-1 ball set has thousands) cost most of the stage.
     const auto farther = std::greater<std::pair<double, int>>();
     std::make_heap(order.begin(), order.end(), farther);
+    double bound = std::numeric_limits<double>::infinity();  // set by the first far, small ball
     while (!order.empty()) {
       std::pop_heap(order.begin(), order.end(), farther);
       const auto [d2, b] = order.back();
@@ -97,8 +98,13 @@ EndPoints find_end_points(const Prongs& prongs, const Balls& balls, const Surfac
       // (up to a tolerance for the peak's own triangles and float rounding).
       const Eigen::Vector3d c = balls.centers.row(b).transpose();
       const double length = std::sqrt(d2);
+      if (length > bound) break;
       const double hit = query.ray_hit(c, peak - c);
       if (!(hit >= length - std::max(1e-6, 1e-3 * length))) continue;
+      if (length > kEndBallFarRadii * balls.radii[b] && length > kEndBallFarGap) {
+        bound = std::min(bound, kEndBallSearch * length);
+        continue;
+      }
       out.ball[p] = b;
       out.centers.row(p) = c.transpose();
       out.radii[p] = balls.radii[b];

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -62,6 +64,62 @@ TEST(EndPoints, GraphPointsAreConnectionPointsThenSeenThenUnseenEnds) {
   EXPECT_DOUBLE_EQ(g.radii[3], 0.02);
   EXPECT_GT(g.radii[4], 0);
   EXPECT_GT(g.radii[5], 0);
+}
+
+// Balls on the lines from the star's middle to its peaks: for each (away, radius) of `rings`, one
+// per prong (ball r * P + p for prong p), `away` from the peak (normalized units).
+dcg::Balls balls_toward_peaks(const Star& star,
+                              const std::vector<std::pair<double, double>>& rings) {
+  const Eigen::Index P = star.pf.prongs.positions.rows(),
+                     R = static_cast<Eigen::Index>(rings.size());
+  dcg::Balls balls{dcg::Points(R * P, 3), Eigen::VectorXd(R * P)};
+  for (Eigen::Index r = 0; r < R; ++r) {
+    for (Eigen::Index p = 0; p < P; ++p) {
+      const Eigen::Vector3d peak = star.pf.prongs.positions.row(p).transpose();
+      balls.centers.row(r * P + p) = (peak * (1.0 - rings[r].first / peak.norm())).transpose();
+      balls.radii[r * P + p] = rings[r].second;
+    }
+  }
+  return balls;
+}
+
+// A ball that sees its peak only from afar, down a part too thin for a larger ball, ends no prong
+// (the prong gets the unseen end point by its peak); one as far but wide enough, or one near the
+// peak however small, does; past a far, small ball the search goes on for a wider one, but not
+// beyond kEndBallSearch times its distance.
+TEST(EndPoints, ABallThatSeesItsPeakFromAfarAndIsSmallEndsNoProng) {
+  const Star star;
+  const Eigen::Index P = star.pf.prongs.positions.rows();
+  ASSERT_EQ(P, 4);
+  const double arm = star.pf.prongs.positions.row(0).norm();  // the middle is inside, at 0
+  const double far = 0.3 * arm, thin = far / dcg::kEndBallFarRadii;
+  ASSERT_GT(far, 2 * dcg::kEndBallFarGap);
+  const double near = 0.8 * dcg::kEndBallFarGap, wide = 0.5 * far;
+  const double beyond = 1.1 * dcg::kEndBallSearch * far;
+  ASSERT_LT(beyond, arm);
+  struct Case {
+    std::vector<std::pair<double, double>> rings;
+    int ring;  // the ring whose ball ends each prong, -1 for none
+  };
+  const std::vector<Case> cases = {{{{far, 0.5 * thin}}, -1},
+                                   {{{far, 2 * thin}}, 0},
+                                   {{{near, 0.1 * near / dcg::kEndBallFarRadii}}, 0},
+                                   {{{far, 0.5 * thin}, {1.5 * far, wide}}, 1},
+                                   {{{far, 0.5 * thin}, {beyond, wide}}, -1}};
+  for (const Case& c : cases) {
+    const dcg::Balls balls = balls_toward_peaks(star, c.rings);
+    const dcg::EndPoints ends = dcg::find_end_points(star.pf.prongs, balls, *star.pm.query, 0.0);
+    for (Eigen::Index i = 0; i < balls.radii.size(); ++i) {
+      const Eigen::Vector3d center = balls.centers.row(i).transpose();
+      const Eigen::Vector3d peak = star.pf.prongs.positions.row(i % P).transpose();
+      ASSERT_TRUE(star.pm.query->inside(center));  // and it sees its peak along the arm:
+      ASSERT_GE(star.pm.query->ray_hit(center, peak - center), (peak - center).norm() - 1e-6);
+    }
+    for (Eigen::Index p = 0; p < P; ++p) {
+      EXPECT_EQ(ends.ball[p], c.ring < 0 ? -1 : c.ring * P + p)
+          << "prong " << p << ", balls " << c.rings[0].first << " away first";
+    }
+  }
 }
 
 // A skeleton whose node and link stick out of a sphere: the node moves inside, and the link

@@ -77,7 +77,7 @@ def test_an_upright_shape_mirrored_top_to_bottom_gets_no_sides_and_no_warning():
 def test_pairs_that_do_not_mirror_each_other_are_said(meshes_dir):
     # spot's pairs mirror exactly; one .R bone's tail moved 5% of the model's size (as where the
     # two sides' skeletons differ and the planner could only move the joints part way: Q_Spider
-    # on Debian 13, one leg's end point at its knee) is said, with how far.
+    # on Debian 13 once, one leg's end point at its knee) is said, with how far.
     skeleton = spot(meshes_dir)
     plan = bones.plan_bones(skeleton, up=Y_UP)
     assert rig_warnings.mirror_gap(skeleton, plan, up=Y_UP) < 1e-9
