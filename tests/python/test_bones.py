@@ -267,6 +267,27 @@ def test_an_unpaired_limb_that_leaves_the_mirror_plane_is_no_part_of_the_middle(
     assert not bones._in_the_middle(plane, limb(2.0))
 
 
+def test_a_limb_along_the_mirror_plane_that_ends_in_a_thin_tip_off_it_is_of_the_middle():
+    """A limb that runs along the plane and ends in a thin tip a little off it (Q_Snake's head
+    and tongue) is of the middle: its end within MIRROR_REACH of its deepest joint's depth of
+    the plane. A stub that sticks out across the plane as far is not, nor is a tip farther off."""
+    plane = bones.symmetry.Plane(np.array([1.0, 0.0, 0.0]), 0.0, 0.0)
+    reach = bones.symmetry.MIRROR_REACH
+
+    def limb(points, radii):
+        return types.SimpleNamespace(original=np.array(points, dtype=float),
+                                     own_radii=np.array(radii, dtype=float))
+    radii = [0.3, 0.3, 0.3, 0.01, 0.01]  # the tip's depth: 0.01, its bone's head's
+
+    def head(tip_x):
+        return limb([[0, 0, 0], [0.1, 0, 1], [0, 0, 2], [0.05, 0, 2.5], [tip_x, 0, 2.6]], radii)
+    assert bones._in_the_middle(plane, head(0.99 * reach * 0.3))
+    assert not bones._in_the_middle(plane, head(1.01 * reach * 0.3))
+    stub = limb([[0, 0, 0], [0.1, 0, 0.02], [0.2, 0, 0.04]], [0.3, 0.01, 0.01])
+    assert bones._in_the_middle(plane, limb(stub.original[:, [2, 1, 0]], stub.own_radii))
+    assert not bones._in_the_middle(plane, stub)
+
+
 def test_a_limb_runs_through_connection_nodes_and_stops_at_branches(no_inset):
     skeleton = straight_chain([0.3, 0.3, 0.2, 0.3, 0.1])
     plan = limb_plan(skeleton, bone_detail=0.0)
