@@ -123,7 +123,7 @@ void bind_balls(py::module_& m) {
   using E = dcg::EndPoints;
   ResultClass<E>(m, "EndPoints",
                  "Each prong's end point (dcg/end_points.h), strongest prong first; source: the "
-                 "stage-1 ball, -1 (radius 0, the peak itself) when no ball sees the peak.")
+                 "stage-1 ball, -1 (radius 0, the peak itself) when no ball near it sees the peak.")
       .field("centers", &E::centers)
       .field("radii", &E::radii)
       .field("source", &E::ball);

@@ -217,8 +217,9 @@ class Extractor:
 
     def end_points(self) -> EndPoints:
         """Each prong's end point (strongest prong first): the stage-1 ball nearest to its peak
-        that sees it. source: index among voronoi_balls(), -1 (radius 0, the peak itself) when
-        no ball sees the peak. Normalized units."""
+        that sees it and is near it (a small ball far down a thin part is passed over:
+        dcg/end_points.h, kEndBallFarRadii). source: index among voronoi_balls(), -1 (radius 0,
+        the peak itself) when no such ball sees the peak. Normalized units."""
         return self._core.end_points()
 
     def force_field(self, points=None) -> FieldSamples:

@@ -63,8 +63,8 @@ GraphPoints graph_points(const ConnectionPoints& connection, const EndPoints& en
                          const Prongs& prongs, const Mesh& working, const SurfaceQuery& query,
                          const Points& domain_points);
 
-/// The end point of prong `p` when no ball sees its peak: the middle of the inward chord from
-/// the peak vertex; if that is not inside (a tip folded through itself by vertex noise), the
+/// The end point of prong `p` when no ball near it sees its peak: the middle of the inward chord
+/// from the peak vertex; if that is not inside (a tip folded through itself by vertex noise), the
 /// first point inside on the segment toward the nearest domain point; if none (a tip crumpled
 /// all around its peak), the inward chord of the nearest working-mesh vertex within 0.03 of the
 /// peak that lands inside by both inside tests. `radius` receives the distance to the surface,
