@@ -808,8 +808,8 @@ def _in_the_middle(plane, limb_points):
     it, within MIRROR_REACH of its deepest joint's depth (Q_Snake's head, whose tongue's tip is
     0.054 off the plane and 0.003 deep: 6 of its joints were off the plane, 2 of them now on it;
     CD-J2J 4.86 -> 4.76, and no other limb of the public or rigged meshes changes). One whose
-    end leaves the plane crosses it (a cylinder's two halves, their ends on
-    opposite rims) or is off to one side, and keeps its joints where they are."""
+    end leaves the plane crosses it (a cylinder's two halves, their ends on opposite rims) or is
+    off to one side, and keeps its joints where they are."""
     points = np.asarray(limb_points.original, dtype=float)
     offsets, depths = np.abs(plane.signed(points)), _depths(limb_points)
     if offsets[-1] <= symmetry.MIRROR_REACH * depths[-1]:
