@@ -123,6 +123,26 @@ def test_end_points_are_distinct_stage1_balls_near_the_peaks(ellipsoid):
     assert "end_points" in [name for name, _ in ex.timings]
 
 
+def test_each_end_lies_by_its_peak_down_a_leg_too_thin_for_a_ball(meshes_dir):
+    """Q_Spider's legs are too thin below the knee for a ball of min_radius: the nearest ball
+    that saw two of its feet sat at the knee, 0.09 of the diagonal away, and those legs' bones
+    stopped there. An end ball now lies within 10 of its radii or 0.05 of its peak, else the
+    prong's end is the point by its peak (stage 3, kEndBallFarRadii), and every end of the
+    skeleton lies within 3% of the diagonal of a peak (at most 2.6% here)."""
+    V, F = dcg.load_mesh(meshes_dir / "rigged" / "Q_Spider.obj")
+    ex = dcg.Extractor(V, F)
+    prongs, ends, working = ex.prongs(), ex.end_points(), ex.prepare()
+    away = np.linalg.norm(ends.centers - prongs.positions, axis=1)
+    seen = ends.source >= 0
+    assert ((away <= 0.05) | (away <= 10 * ends.radii))[seen].all(), away[seen]
+    skeleton = ex.skeleton()
+    peaks = prongs.positions * working.scale + working.offset
+    tips = skeleton.positions[np.asarray(skeleton.kinds) == "end"]
+    assert len(tips) == len(peaks) == 11
+    gaps = np.linalg.norm(tips[:, None] - peaks[None], axis=2).min(axis=1) / working.scale
+    assert gaps.max() < 0.03, np.round(gaps, 3)
+
+
 def test_a_sphere_has_no_prong():
     ex = dcg.Extractor(*uv_sphere(24, 32), **FAST)
     assert len(ex.prongs().vertices) == 0
