@@ -22,12 +22,11 @@ LIMIT_S = 0.5
 
 class Canceller:
     """A progress callback that records its calls and returns False once a request is due:
-    at the k-th call with stage `stage` (at=(stage, k)), at its first call with stage `stage`
-    and a fraction of at least f (at_fraction=(stage, f)), or `after_s` seconds after the
-    start."""
+    at its first call with stage `stage` and a fraction of at least f (at=(stage, f); f = 0:
+    the stage's boundary), or `after_s` seconds after the start."""
 
-    def __init__(self, at=None, after_s=None, at_fraction=None):
-        self.at, self.after_s, self.at_fraction = at, after_s, at_fraction
+    def __init__(self, at=None, after_s=None):
+        self.at, self.after_s = at, after_s
         self.calls = []  # (perf_counter, stage, fraction)
         self.requested = None
         self.start = time.perf_counter()
@@ -37,12 +36,7 @@ class Canceller:
         self.calls.append((now, stage, fraction))
         if self.requested is not None:
             return True
-        if self.at is not None and stage == self.at[0]:
-            if sum(1 for _, s, _ in self.calls if s == stage) >= self.at[1]:
-                self.requested = now
-                return False
-        if self.at_fraction is not None and stage == self.at_fraction[0] \
-                and fraction >= self.at_fraction[1]:
+        if self.at is not None and stage == self.at[0] and fraction >= self.at[1]:
             self.requested = now
             return False
         if self.after_s is not None and now - self.start >= self.after_s:
@@ -77,9 +71,9 @@ def picks_for(calls, seconds, delays, stages=True):
     if stages:
         for stage, fractions in by_stage.items():
             if stage != "done":
-                picks.append(Canceller(at=(stage, 1)))
+                picks.append(Canceller(at=(stage, 0.0)))
             if len(fractions) >= 6:
-                picks.append(Canceller(at_fraction=(stage, fractions[len(fractions) // 3 - 1])))
+                picks.append(Canceller(at=(stage, fractions[len(fractions) // 3 - 1])))
     picks += [Canceller(after_s=f * seconds) for f in delays]
     return picks
 
