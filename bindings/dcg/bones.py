@@ -15,10 +15,12 @@ limb, 1 = about one per polyline segment). Chains are laid out breadth-first fro
 skeleton's root: the chain of a limb starts at the node nearer the root and its first bone
 is the child of the bone that arrived at that node. A link that closes a cycle (genus > 0)
 is a limb of its own whose first bone is parented without `use_connect`, so the armature
-stays a tree while every cycle keeps its bones. A connection node between two joints of a
-limb has no bone ending at it; every node of degree other than 2 has. The bone ending at
-an end node stops END_INSET radii short of it (the node is the prong's tip on the surface;
-the joint sits inside the rounded tip, where an artist's last joint goes).
+stays a tree while every cycle keeps its bones. A pair of limbs whose first node lies by the
+first stretch of a limb of the middle hangs from that limb's joint there instead, by a bone
+across to that node (`hang_from_middle`: Q_Knight's arms from its chest). A connection node
+between two joints of a limb has no bone ending at it; every node of degree other than 2 has.
+The bone ending at an end node stops END_INSET radii short of it (the node is the prong's tip
+on the surface; the joint sits inside the rounded tip, where an artist's last joint goes).
 
 Bone kinds: a bone whose tail is a skeleton node takes that node's kind ("end", "joint",
 "connection"); a bone whose tail is an inner polyline point is a "connection" (such points
@@ -110,6 +112,11 @@ UPRIGHT_PLANE = 45.0
 #: An unpaired limb whose joints keep within this fraction of its length of the mirror plane runs
 #: along it, and may end in a thin tip a little off it yet be of the middle (`_in_the_middle`).
 ALONG_PLANE = 0.25
+#: A limb with a side whose first node is nearer than this fraction of its distance from the
+#: branching node the limb starts at to a joint on the first link of a limb of the middle that
+#: starts there too hangs from that joint instead (`hang_from_middle`: Q_Knight's arms from its
+#: chest, not its belly).
+HANG_NEARER = 0.5
 #: A limb of the middle whose end lies off the mirror plane for at most this many radii (where
 #: it leaves the plane) of its length ends there instead (`_middle_ends`: spot's head on a horn).
 TWIN_TIP = 3.0
@@ -438,10 +445,83 @@ def _limb_plan(skeleton, bone_detail, limb_fractions, up=UP, names_up=None):
     fractions = [ask if ask is not None and len(ask) + 1 == count else None
                  for ask, count in zip(asked, wanted)]
     joints = limb_joints(plane, polylines, sides, wanted, min_length, fractions)
+    hosts = {}
     if plane is not None:
         symmetrize(plane, skeleton, chains, sides, joints, polylines)
+        if limb_fractions is None:  # a Mixamo plan hangs its arms from its own chest
+            hosts = hang_from_middle(chains, sides, joints)
     frame = _references(plane, positions, sides, joints)
-    return _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up), plane
+    return _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up, hosts), plane
+
+
+def hang_from_middle(chains, sides, joints):
+    """{limb: (host limb, joint index)}: the paired limbs that hang from a joint of a limb of
+    the middle rather than from the branching node they start at; their joints (LimbJoints per
+    limb) change in place: the ones before the pair's first node go (the first joint index at
+    which either limb has a node, so that the two still pair joint by joint), and the first
+    joint is the host's.
+
+    A pair hangs when a limb of the middle that starts at the same node has a joint on its
+    first link (after the node itself) nearer to each limb's joint at that index than
+    HANG_NEARER x that joint's distance from the start; the host is the one such joint of
+    least ratio (the larger of the two limbs'), so the pair still mirrors.
+
+    Why: the engine joins every part that meets a wide body at one node, so Q_Knight's arms,
+    legs and head all left one node in its belly, and the arms ran up through the chest to
+    the shoulders (bones inside the chest that moved it with the arm). Now they hang from
+    the head chain's joint level with the shoulders, by a bone across to them where an
+    animator puts a clavicle. Only the middle's first link counts (the body's centre line
+    next to the node), so cow.off's hind legs do not hang from its tail. Over the rigged
+    characters: CD-J2J / J2B / B2B Q_Knight 2.966 / 2.313 / 2.030 -> 3.060 / 2.305 / 2.011
+    (its artist's clavicles start lower, at the top of the spine), CesiumMan 2.694 / 1.614 /
+    1.498 -> 2.713 / 1.555 / 1.441, no other.
+    """
+    hosts = {}
+    for i, j in symmetry.partners(sides).items():
+        cut = min(_first_node(joints[i]), _first_node(joints[j]))  # pairs' joints pair by index
+        found = _host(chains, sides, joints, (i, j), cut)
+        if found is None:
+            continue
+        for k in (i, j):
+            _hang(joints[k], joints[found[0]], found[1], cut)
+            hosts[k] = found
+    return hosts
+
+
+def _first_node(limb_points):
+    """Index of a limb's first joint after its start that is a skeleton node."""
+    return next(i for i in range(1, len(limb_points.nodes)) if limb_points.nodes[i] >= 0)
+
+
+def _host(chains, sides, joints, pair, cut):
+    """(host limb, joint index) the two limbs of `pair` would hang from by their joints `cut`
+    (see hang_from_middle), or None."""
+    starts = {chains[k][0][1] for k in pair}
+    firsts = [joints[k].points[cut] for k in pair]
+    reaches = [HANG_NEARER * np.linalg.norm(point - joints[k].points[0])
+               for k, point in zip(pair, firsts)]
+    best = None
+    for m, (limb, (side, _)) in enumerate(zip(chains, sides)):
+        if side is not None or len(starts) != 1 or limb[0][1] not in starts:
+            continue
+        for at in range(1, _first_node(joints[m]) + 1):
+            worst = max(np.linalg.norm(joints[m].points[at] - point) / max(reach, 1e-300)
+                        for point, reach in zip(firsts, reaches))
+            if worst < 1.0 and (best is None or worst < best[0]):
+                best = (worst, m, at)
+    return None if best is None else best[1:]
+
+
+def _hang(limb_points, host_points, at, cut):
+    """Limb joints from the host's joint `at` straight to the limb's joint `cut`, in place."""
+    keep = np.concatenate([[0], np.arange(cut, len(limb_points.nodes))])
+    links = np.asarray(limb_points.links)[keep[1:] - 1]
+    for field in ("original", "target", "radii", "own_radii", "nodes", "points"):
+        setattr(limb_points, field, np.array(getattr(limb_points, field)[keep]))
+    limb_points.links = links
+    for field in ("original", "target", "points"):
+        getattr(limb_points, field)[0] = host_points.points[at]
+    limb_points.radii[0] = limb_points.own_radii[0] = host_points.radii[at]
 
 
 def add_root(plan, skeleton, plane=None, up=UP, origin=None):
@@ -918,10 +998,12 @@ def _references(plane, positions, sides, joints):
     return references, side, up
 
 
-def _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up=None):
-    """The BoneSpecs of the limbs' chains (joints: LimbJoints per limb, final), in limb order:
-    named after their chains (`dcg.naming` with `names_up`: a .R bone after its .L partner),
-    parented, with END_INSET tails and each chain's rolls (frame: what _references returns)."""
+def _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up=None, hosts=None):
+    """The BoneSpecs of the limbs' chains (joints: LimbJoints per limb, final), in limb order
+    but the limbs that hang from another's joint (hosts: hang_from_middle's) last: named after
+    their chains (`dcg.naming` with `names_up`: a .R bone after its .L partner), parented,
+    with END_INSET tails and each chain's rolls (frame: what _references returns)."""
+    hosts = hosts or {}
     references, side_axis, up = frame
     kinds = [str(k) for k in skeleton.kinds]
     degree = _degrees(skeleton)
@@ -932,11 +1014,15 @@ def _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up=None):
                                      names_up)
     name_of = naming.namer()
     tail_bone = {}  # node -> name of the bone whose tail is that node
-    bones = []
-    for k, (limb, (side, pair), limb_points) in enumerate(zip(chains, sides, joints)):
+    bones, names = [], {}  # names: limb -> its bones' names
+    for k in sorted(range(len(chains)), key=lambda k: k in hosts):
+        limb, (side, pair), limb_points = chains[k], sides[k], joints[k]
         heads, tails = _limb_segments(limb_points, kinds, degree)
         z_axes = rolls.z_axes(heads, tails, references[k], side_axis, up)
         parent, first_tree = tail_bone.get(limb[0][1]), limb[0][3]
+        if k in hosts:
+            parent, first_tree = names[hosts[k][0]][hosts[k][1] - 1], False
+        names[k] = []
         for i, (head, tail, z_axis) in enumerate(zip(heads, tails, z_axes)):
             name = name_of(chain_names[k], side, pair, i)
             bones.append(BoneSpec(
@@ -945,6 +1031,7 @@ def _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up=None):
                 float(limb_points.radii[i]), float(limb_points.radii[i + 1]), z_axis,
                 rolls.blender_roll(head, tail, z_axis)))
             parent = name
+            names[k].append(name)
         if limb[-1][3]:
             tail_bone[limb[-1][2]] = parent
     return bones

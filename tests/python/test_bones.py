@@ -613,6 +613,85 @@ def test_the_rigged_characters_pairs_mirror_exactly_and_stay_inside(meshes_dir):
             assert name == "Mannequiny" and np.sum(np.array(near) < GAP * side) >= 2, (name, joint)
 
 
+def belly_hub(shoulder=1.0):
+    """Q_Knight's layout: one joint node 0 in the belly from which a head chain (through a
+    neck node 1 at height 1), two legs and two arms leave; each arm's first link runs up
+    through the chest to its shoulder node (at `shoulder`), then out to the hand."""
+    positions = [[0, 0, 0], [0, 0, 1], [0, 0, 1.6],
+                 [0.5, 0, shoulder], [1.2, 0, shoulder], [-0.5, 0, shoulder], [-1.2, 0, shoulder],
+                 [0.3, 0, -0.6], [0.3, 0, -1.2], [-0.3, 0, -0.6], [-0.3, 0, -1.2]]
+    kinds = ["joint", "connection", "end", "connection", "end", "connection", "end",
+             "connection", "end", "connection", "end"]
+    links = [[0, 1], [1, 2], [0, 3], [3, 4], [0, 5], [5, 6], [0, 7], [7, 8], [0, 9], [9, 10]]
+    polylines = [[[0, 0, 0], [0, 0, 0.5], [0, 0, 1]], None,
+                 [[0, 0, 0], [0.25, 0, 0.5 * shoulder], [0.5, 0, shoulder]], None,
+                 [[0, 0, 0], [-0.25, 0, 0.5 * shoulder], [-0.5, 0, shoulder]], None,
+                 None, None, None, None]
+    positions = np.asarray(positions, dtype=float)
+    polylines = [positions[link] if line is None else line
+                 for line, link in zip(polylines, links)]
+    return skeleton_of(positions, kinds, links, polylines, root=0)
+
+
+def test_arms_that_reach_the_middle_by_their_first_node_hang_from_it(no_inset):
+    plan = limb_plan(belly_hub(), bone_detail=1.0)
+    names = {spec.name: spec for spec in plan}
+    order = [spec.name for spec in plan]
+    for side, x in (("L", 0.5), ("R", -0.5)):  # a bone across from the neck to the shoulder
+        first = names[f"arm.001.{side}"]
+        assert np.allclose(first.head, [0, 0, 1]) and np.allclose(first.tail, [x, 0, 1])
+        host = names[first.parent]
+        assert host.name.startswith("head.") and np.allclose(host.tail, [0, 0, 1])
+        assert not first.use_connect and order.index(host.name) < order.index(first.name)
+        assert [n for n in order if n.startswith("arm.") and n.endswith(side)] == [
+            f"arm.001.{side}", f"arm.002.{side}"]  # nothing left inside the chest
+        leg = names[f"leg.001.{side}"]  # the legs' first nodes are far from the head chain
+        assert np.allclose(leg.head, [0, 0, 0]) and leg.parent is None
+    arrays = bones.bone_arrays(plan)
+    mirror = metrics.mirror_error(np.asarray(belly_hub().positions), arrays["names"],
+                                  arrays["heads"], arrays["tails"], [1, 0, 0], 0.0)
+    assert mirror["unpaired"] == 0 and mirror["mirror_max"] < 1e-12
+
+
+def test_arms_whose_first_node_is_nearer_their_start_keep_it():
+    # shoulders at 0.35: 0.61 from the belly, 0.5 from the nearest joint of the head chain
+    plan = limb_plan(belly_hub(shoulder=0.35), bone_detail=1.0)
+    first = next(spec for spec in plan if spec.name == "arm.001.L")
+    assert np.allclose(first.head, [0, 0, 0]) and first.parent is None
+
+
+def test_a_mixamo_plan_asks_its_own_chest_for_the_arms():
+    fractions = {4: [0.5], 6: [0.5]}  # what humanoid.mixamo_plan passes: no hanging then
+    plan = limb_plan(belly_hub(), bone_detail=1.0, limb_fractions=fractions)
+    assert all(spec.parent is None for spec in plan if spec.name.startswith("arm.001"))
+
+
+def test_q_knights_arms_hang_from_its_chest_level_with_its_shoulders(meshes_dir):
+    """Q_Knight's arms, legs and head all leave one node in its belly; its arms hang from the
+    head chain by a bone across to each shoulder, inside the mesh, and mirror."""
+    import mesh_parts
+
+    V, F = dcg.load_mesh(meshes_dir / "rigged" / "Q_Knight.obj")
+    skeleton = shared_skeleton(V, F, "Q_Knight")
+    plan = limb_plan(skeleton)
+    names = {spec.name: spec for spec in plan}
+    height = float(np.ptp(np.asarray(V)[:, 2]))
+    plane = bones.plan_plane(skeleton)
+    for side in ("L", "R"):
+        first = names[f"arm.001.{side}"]
+        assert names[first.parent].name.startswith("head.")
+        across = first.tail - first.head  # from the chest's middle out to the shoulder
+        assert abs(across[2]) < 0.05 * height, across
+        assert abs(plane.normal @ first.head - plane.offset) < 1e-6 * height  # on the plane
+        assert first.head[2] > 0.6 * height  # the shoulders' level, not the belly (0.36)
+        samples = first.head + np.linspace(0, 1, 9)[:, None] * across
+        assert mesh_parts.inside_any_part(samples, V, F).all()
+    arrays = bones.bone_arrays(plan)
+    mirror = metrics.mirror_error(V, arrays["names"], arrays["heads"], arrays["tails"],
+                                  plane.normal, plane.offset)
+    assert mirror["unpaired"] == 0 and mirror["mirror_max"] < 1e-9
+
+
 def test_an_asymmetric_skeleton_is_rigged_as_it_is(no_inset):
     skeleton = body(lean=0.9, arm_drop=1.5)
     assert bones.plan_plane(skeleton) is None
