@@ -507,7 +507,7 @@ def _host(chains, sides, joints, pair, cut):
         for at in range(1, _first_node(joints[m]) + 1):
             worst = max(np.linalg.norm(joints[m].points[at] - point) / max(reach, 1e-300)
                         for point, reach in zip(firsts, reaches))
-            if worst < 1.0 and (best is None or worst < best[0]):
+            if 1e-6 < worst < 1.0 and (best is None or worst < best[0]):  # no 0-length bone
                 best = (worst, m, at)
     return None if best is None else best[1:]
 
