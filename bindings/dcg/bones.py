@@ -42,8 +42,10 @@ stay inside the mesh for it (`symmetrize`: within symmetry.MIRROR_REACH radii of
 limb's skeleton, or copied from the .L limb when the surface mirrors itself); a pair that can
 do neither moves at most MIRROR_REACH radii toward its partner and mirrors approximately.
 A limb of the middle that the engine ended on one of two mirror-image features (spot's head on
-one horn) ends where it leaves the plane, on it (`_middle_ends`); limbs that should pair and do
-not are counted by `unpaired_limbs` (the add-on warns of them).
+one horn) ends where it leaves the plane, on it (`_middle_ends`); a joint off the plane from
+which two limbs of mirror-image ends hang, one across the plane, is planned where that one
+crosses it (`dcg.junctions`: Q_Frog's hind legs); limbs that should pair and do not are
+counted by `unpaired_limbs` (the add-on warns of them).
 .L is the side the plane's normal points to (its largest component positive: +X for a model
 mirrored across x = 0). The middle's limbs and every limb of a shape with no mirror plane
 keep the plain names, and a shape with no mirror plane keeps its joints where they were.
@@ -61,7 +63,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from . import naming, rolls, symmetry
+from . import junctions, naming, rolls, symmetry
 from .skeleton import measured_polyline_radii
 from .symmetry import MIRROR_TOLERANCE, limb_sides, mirror_plane  # noqa: F401 (this API)
 
@@ -432,9 +434,7 @@ def _limb_plan(skeleton, bone_detail, limb_fractions, up=UP, names_up=None):
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     extent = np.ptp(positions, axis=0) if len(positions) else np.zeros(3)
     min_length = 1e-6 * max(float(np.linalg.norm(extent)), 1e-12)
-    chains = limbs(skeleton)
-    polylines = [limb_polyline(skeleton, limb) for limb in chains]
-    plane, sides = _symmetry(skeleton, chains, polylines, up)
+    skeleton, chains, polylines, plane, sides = _planned_limbs(skeleton, up)
     if plane is not None:
         polylines = _middle_ends(plane, skeleton, chains, sides, polylines)
     segments = [len(polyline[0]) - 1 for polyline in polylines]
@@ -664,9 +664,25 @@ def plan_plane(skeleton, up=UP):
 
 def _plan_symmetry(skeleton, up=UP):
     """(chains, plane, sides) of `skeleton`: its limbs and `_symmetry` of them."""
+    _, chains, _, plane, sides = _planned_limbs(skeleton, up)
+    return chains, plane, sides
+
+
+def _planned_limbs(skeleton, up=UP):
+    """(the skeleton as planned, its limbs, their polylines (`limb_polyline`), plane, sides):
+    `skeleton` and `_symmetry` of its limbs, unless a junction of two limbs of mirror-image
+    ends lies off the plane (`dcg.junctions.onto_plane`: Q_Frog's hind legs): then a view of
+    it with that junction on the plane, and the symmetry of that."""
     chains = limbs(skeleton)
-    return (chains,) + _symmetry(skeleton, chains, [limb_polyline(skeleton, limb)
-                                                    for limb in chains], up)
+    polylines = [limb_polyline(skeleton, limb) for limb in chains]
+    plane, sides = _symmetry(skeleton, chains, polylines, up)
+    if plane is not None:
+        moved = junctions.onto_plane(skeleton, plane, chains, sides)
+        if moved is not skeleton:
+            skeleton = moved
+            polylines = [limb_polyline(skeleton, limb) for limb in chains]
+            plane, sides = _symmetry(skeleton, chains, polylines, up)
+    return skeleton, chains, polylines, plane, sides
 
 
 def mirrors_top_to_bottom(plane, skeleton, up=UP):

@@ -9,7 +9,7 @@ import pytest
 
 import dcg
 from conftest import shared_skeleton
-from dcg import bones, metrics, symmetry
+from dcg import bones, junctions, metrics, symmetry
 
 
 def limb_plan(skeleton, *args, **kwargs):
@@ -535,19 +535,45 @@ def test_limbs_whose_ends_and_starts_mirror_pair_on_a_shape_that_mirrors_itself(
     assert bones.unpaired_limbs(skeleton) == 0
 
 
-def test_limbs_that_start_at_one_joint_off_the_plane_do_not_pair():
-    # Both legs hang from one joint 0.3 to the right of the plane (a rotated Q_Frog's hind legs
-    # did): their feet mirror each other, their first bones cannot, so they keep plain names.
-    positions = [[0, 0, 0.5], [0.3, 0, 0], [1, 0, -1], [1, 0, -3], [-1, 0, -1], [-1, 0, -3],
-                 [0, 0, 1.5]]
+def frog_hips(foot_x=1.0):
+    """Q_Frog's hind legs: both hang from one joint 0.3 to the right of the mirror plane x = 0,
+    the right leg straight down, the left one first across the plane to its own hip; the spine
+    arrives at that joint from a joint on the plane, drifting off it on the way."""
+    positions = [[0, 0, 0.5], [0.3, 0, 0], [1, 0, -1], [foot_x, 0, -3], [-1, 0, -1],
+                 [-1, 0, -3], [0, 0, 1.5]]
     kinds = ["joint", "joint", "connection", "end", "connection", "end", "end"]
     links = [[0, 1], [1, 2], [2, 3], [1, 4], [4, 5], [0, 6]]
-    skeleton = skeleton_of(positions, kinds, links)
-    assert bones.plan_plane(skeleton) is not None
-    assert not mirror_partners(limb_plan(skeleton))
-    skeleton.positions[1] = [0.0, 0, 0]  # from a joint on the plane they pair
-    skeleton.polylines = [skeleton.positions[[a, b]] for a, b in links]
-    assert len(mirror_partners(limb_plan(skeleton, bone_detail=0.0))) == 1
+    polylines = [[[0, 0, 0.5], [0.02, 0, 0.3], [0.2, 0, 0.1], [0.3, 0, 0]], None, None,
+                 [[0.3, 0, 0], [-0.3, 0, 0], [-1, 0, -1]], None, None]
+    positions = np.asarray(positions, dtype=float)
+    polylines = [positions[link] if line is None else line
+                 for line, link in zip(polylines, links)]
+    return skeleton_of(positions, kinds, links, polylines)
+
+
+def test_limbs_from_one_joint_off_the_plane_pair_from_where_one_crosses_it():
+    skeleton = frog_hips()
+    before = [np.array(line) for line in skeleton.polylines]
+    plan = limb_plan(skeleton, bone_detail=1.0)
+    names = {spec.name: spec for spec in plan}
+    assert len(mirror_partners(plan)) == 3  # hip, thigh, shin
+    for side in ("L", "R"):  # both legs start where the left one crossed the plane
+        assert np.allclose(names[f"leg.001.{side}"].head, [0, 0, 0], atol=0.01)
+    assert np.allclose(names["leg.001.L"].tail, [0.3, 0, 0], atol=0.01)  # via the old joint
+    assert np.allclose(names["leg.001.R"].tail, [-0.3, 0, 0], atol=0.02)  # its mirror image
+    spine = [spec for spec in plan if spec.name.startswith("spine.")]
+    assert np.allclose(spine[-1].tail, [0, 0, 0], atol=0.01)  # the spine ends there too,
+    assert all(abs(spec.tail[0]) < 0.03 for spec in spine)  # its drift off the plane dropped
+    assert np.allclose(skeleton.positions[1], [0.3, 0, 0])  # the skeleton itself is unchanged
+    assert all(np.array_equal(a, b) for a, b in zip(before, skeleton.polylines))
+
+
+def test_a_joint_off_the_plane_stays_where_its_limbs_ends_do_not_mirror():
+    skeleton = frog_hips(foot_x=1.6)  # one foot 0.6 farther out than the other
+    plane = bones.plan_plane(skeleton)
+    chains, _, sides = bones._plan_symmetry(skeleton)
+    assert plane is None or junctions.onto_plane(skeleton, plane, chains, sides) is skeleton
+    assert not mirror_partners(limb_plan(skeleton, bone_detail=1.0))
 
 
 def test_inside_tube_and_copies_inside():
@@ -585,14 +611,15 @@ def test_the_rigged_characters_pairs_mirror_exactly_and_stay_inside(meshes_dir):
     """On the rigged characters whose surfaces mirror themselves (all but the snake and the
     cylinder have pairs), every .L bone is its .R partner's mirror image across the plan's plane,
     where the skeletons differ too (Q_Dragon's wings branch differently on either side,
-    Mannequiny's upper arms' polylines double back), and no joint leaves the mesh for that.
+    Mannequiny's upper arms' polylines double back, Q_Frog's hind legs hang from one joint by
+    its right hip), and no joint leaves the mesh for that.
     Mannequiny is made of separate segments: a joint may fall in the gap between two (a spine
     joint where its chest and belly pieces meet, the surface narrowing there; a hairline seam
     on Debian 13's CGAL), within GAP of both."""
     import mesh_parts
 
     folder = meshes_dir / "rigged"
-    for name in ("Mannequiny", "Q_Dragon", "Q_Male_Casual", "Q_Goblin"):
+    for name in ("Mannequiny", "Q_Dragon", "Q_Male_Casual", "Q_Goblin", "Q_Frog"):
         V, F = dcg.load_mesh(folder / f"{name}.obj")
         skeleton = shared_skeleton(V, F, name)
         plane = bones.plan_plane(skeleton)
@@ -602,6 +629,7 @@ def test_the_rigged_characters_pairs_mirror_exactly_and_stay_inside(meshes_dir):
         mirror = metrics.mirror_error(V, arrays["names"], arrays["heads"], arrays["tails"],
                                           plane.normal, plane.offset)
         assert mirror["pairs"] >= 20 and mirror["unpaired"] == 0, name
+        assert bones.unpaired_limbs(skeleton) == 0, name  # what the add-on warns of
         assert mirror["mirror_max"] < 1e-9, name
         joints = metrics.unique_points(np.concatenate([arrays["heads"], arrays["tails"]]))
         inside = mesh_parts.inside_any_part(joints, V, F)

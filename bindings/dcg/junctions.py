@@ -1,0 +1,127 @@
+"""Junctions of the bone plan that the engine put off a mirror plane (no `bpy`: plain pytest
+tests it; `dcg.bones` plans with it).
+
+    skeleton = junctions.onto_plane(skeleton, plane, chains, sides)   # the same, or a view
+
+Two limbs whose ends mirror each other (a frog's hind legs) can hang from one joint node that
+the engine placed off the mirror plane, by one of the two hips: then one leg leaves it
+straight down and the other runs across the back, over the plane, to its own hip. Their first
+bones cannot mirror each other, so they did not pair (no .L / .R names, and the add-on warned
+of them: Q_Frog). The plan moves such a node to where the crossing limb meets the plane:
+both limbs then start on the plane, one over the other's first stretch reflected, and pair.
+"""
+
+import types
+
+import numpy as np
+
+from . import symmetry
+from .skeleton import measured_polyline_radii
+
+
+def onto_plane(skeleton, plane, chains, sides):
+    """`skeleton`, or a view of it (the attributes `dcg.bones` reads) in which each junction
+    that qualifies (`_crossing`) lies where its crossing limb meets `plane`: that limb's first
+    link starts there, the other limb's first link starts there and runs through the old
+    node, and the link arriving at the node ends there, its last points that lie off the
+    plane (farther than symmetry.tolerance) dropped. chains: dcg.bones.limbs(skeleton);
+    sides: (side, pair) per limb, as dcg.bones plans them."""
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
+    degree = np.bincount(links.ravel(), minlength=len(positions))
+    near = symmetry.tolerance(positions)
+    moves = [move for node in np.flatnonzero(degree == 3)
+             if (move := _crossing(plane, skeleton, chains, sides, int(node), degree, near))]
+    if not moves:
+        return skeleton
+    view = _view(skeleton)
+    for node, crossing, other, arriving in moves:
+        _move(view, plane, node, crossing, other, arriving, near)
+    return view
+
+
+def _crossing(plane, skeleton, chains, sides, node, degree, near):
+    """(node, crossing limb's first link, other limb's first link, arriving link) when two
+    unpaired limbs leave `node`, off the plane, for ends that mirror each other within `near`,
+    one link arrives at it along the skeleton's tree, and exactly one of the two crosses the
+    plane in its first link; else None."""
+    positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
+    side = plane.signed(positions[node])
+    if abs(side) <= near:
+        return None
+    leaving = [limb for limb, (limb_side, _) in zip(chains, sides)
+               if limb[0][1] == node and limb_side is None and degree[limb[-1][2]] == 1]
+    arriving = [limb[-1][0] for limb in chains if limb[-1][2] == node and limb[-1][3]]
+    if len(leaving) != 2 or len(arriving) != 1:
+        return None
+    ends = positions[[limb[-1][2] for limb in leaving]]
+    if np.linalg.norm(plane.reflect(ends[0]) - ends[1]) > near:
+        return None
+    crosses = [bool((np.sign(plane.signed(_from(skeleton, limb[0][0], node))) != np.sign(side))
+                    .any()) for limb in leaving]
+    if sum(crosses) != 1:
+        return None
+    crossing, other = (leaving[0], leaving[1]) if crosses[0] else (leaving[1], leaving[0])
+    return node, crossing[0][0], other[0][0], arriving[0]
+
+
+def _from(skeleton, link, node):
+    """The polyline of `link` starting at `node` (#P by 3)."""
+    polyline = np.asarray(skeleton.polylines[link], dtype=float).reshape(-1, 3)
+    return polyline if int(skeleton.links[link][0]) == node else polyline[::-1]
+
+
+def _view(skeleton):
+    """A copy of what dcg.bones reads of `skeleton`, its arrays its own."""
+    radii = measured_polyline_radii(skeleton)
+    return types.SimpleNamespace(
+        positions=np.array(skeleton.positions, dtype=float).reshape(-1, 3),
+        kinds=np.asarray(skeleton.kinds), links=np.asarray(skeleton.links, dtype=np.int64),
+        polylines=[np.array(p, dtype=float).reshape(-1, 3) for p in skeleton.polylines],
+        polyline_radii=None if radii is None else [np.array(r, dtype=float) for r in radii],
+        root=skeleton.root, radii=np.array(skeleton.radii, dtype=float),
+        mirror_plane=getattr(skeleton, "mirror_plane", np.zeros(4)),
+        mirror_error=getattr(skeleton, "mirror_error", 1.0))
+
+
+def _move(view, plane, node, crossing, other, arriving, near):
+    """Move `node` of the view onto the plane where link `crossing` meets it (see onto_plane)."""
+    points, radii = _link(view, crossing, node)
+    signed = plane.signed(points)
+    i = int(np.flatnonzero(np.sign(signed[1:]) != np.sign(signed[0]))[0])  # segment i, i + 1
+    t = signed[i] / (signed[i] - signed[i + 1])
+    point = points[i] + t * (points[i + 1] - points[i])
+    radius = radii[i] + t * (radii[i + 1] - radii[i])
+    _set_link(view, crossing, node, np.vstack([point, points[i + 1:]]),
+              np.concatenate([[radius], radii[i + 1:]]))
+    points, radii = _link(view, other, node)
+    _set_link(view, other, node, np.vstack([point, points]), np.concatenate([[radius], radii]))
+    points, radii = _link(view, arriving, node)  # from the node back to where it came from
+    off = np.abs(plane.signed(points[1:-1])) > near
+    first = 1 + int(np.argmin(off)) if not off.all() else len(points) - 1
+    _set_link(view, arriving, node, np.vstack([point, points[first:]]),
+              np.concatenate([[radius], radii[first:]]))
+    view.positions[node] = point
+    view.radii[node] = radius
+
+
+def _link(view, link, node):
+    """(points, radii) of `link` from `node`; radii from the view's measured ones, else its
+    nodes' radii linear in arc length."""
+    forward = int(view.links[link][0]) == node
+    points = view.polylines[link] if forward else view.polylines[link][::-1]
+    measured = None if view.polyline_radii is None else view.polyline_radii[link]
+    if measured is None or len(measured) != len(points):
+        ends = view.radii[view.links[link]]
+        at = symmetry.arc_fractions(view.polylines[link])
+        measured = ends[0] + at * (ends[1] - ends[0])
+    radii = np.asarray(measured, dtype=float)
+    return points, radii if forward else radii[::-1]
+
+
+def _set_link(view, link, node, points, radii):
+    """Store (points, radii), given from `node`, as `link`'s polyline in its own direction."""
+    forward = int(view.links[link][0]) == node
+    view.polylines[link] = points if forward else points[::-1]
+    if view.polyline_radii is not None:
+        view.polyline_radii[link] = radii if forward else radii[::-1]
