@@ -1016,9 +1016,10 @@ def _references(plane, positions, sides, joints):
 
 def _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up=None, hosts=None):
     """The BoneSpecs of the limbs' chains (joints: LimbJoints per limb, final), in limb order
-    but the limbs that hang from another's joint (hosts: hang_from_middle's) last: named after
-    their chains (`dcg.naming` with `names_up`: a .R bone after its .L partner), parented,
-    with END_INSET tails and each chain's rolls (frame: what _references returns)."""
+    but parents first (`_parents_first`: a limb that hangs from another's joint, hosts:
+    hang_from_middle's, may come before it): named after their chains (`dcg.naming` with
+    `names_up`: a .R bone after its .L partner), parented, with END_INSET tails and each
+    chain's rolls (frame: what _references returns)."""
     hosts = hosts or {}
     references, side_axis, up = frame
     kinds = [str(k) for k in skeleton.kinds]
@@ -1029,28 +1030,43 @@ def _chain_bones(skeleton, chains, sides, plane, joints, frame, names_up=None, h
                                      [limb_points.points for limb_points in joints], degree,
                                      names_up)
     name_of = naming.namer()
+    names = [[name_of(chain_names[k], side, pair, i) for i in range(len(limb_points.points) - 1)]
+             for k, ((side, pair), limb_points) in enumerate(zip(sides, joints))]
     tail_bone = {}  # node -> name of the bone whose tail is that node
-    bones, names = [], {}  # names: limb -> its bones' names
-    for k in sorted(range(len(chains)), key=lambda k: k in hosts):
-        limb, (side, pair), limb_points = chains[k], sides[k], joints[k]
+    bones = []
+    for k, (limb, limb_points) in enumerate(zip(chains, joints)):
         heads, tails = _limb_segments(limb_points, kinds, degree)
         z_axes = rolls.z_axes(heads, tails, references[k], side_axis, up)
         parent, first_tree = tail_bone.get(limb[0][1]), limb[0][3]
         if k in hosts:
             parent, first_tree = names[hosts[k][0]][hosts[k][1] - 1], False
-        names[k] = []
         for i, (head, tail, z_axis) in enumerate(zip(heads, tails, z_axes)):
-            name = name_of(chain_names[k], side, pair, i)
             bones.append(BoneSpec(
-                name, head, tail, parent, parent is not None and (i > 0 or first_tree),
+                names[k][i], head, tail, parent, parent is not None and (i > 0 or first_tree),
                 bone_kinds[k][i], int(limb_points.nodes[i + 1]), int(limb_points.links[i]),
                 float(limb_points.radii[i]), float(limb_points.radii[i + 1]), z_axis,
                 rolls.blender_roll(head, tail, z_axis)))
-            parent = name
-            names[k].append(name)
+            parent = names[k][i]
         if limb[-1][3]:
             tail_bone[limb[-1][2]] = parent
-    return bones
+    return _parents_first(bones)
+
+
+def _parents_first(plan):
+    """`plan` (BoneSpecs) with each bone that comes before its parent moved to just after it,
+    its own children after it in turn; the others keep their order."""
+    placed, waiting, ordered = set(), {}, []
+    for spec in plan:
+        if spec.parent is not None and spec.parent not in placed:
+            waiting.setdefault(spec.parent, []).append(spec)
+            continue
+        stack = [spec]
+        while stack:
+            ready = stack.pop()
+            ordered.append(ready)
+            placed.add(ready.name)
+            stack.extend(reversed(waiting.pop(ready.name, [])))
+    return ordered + [spec for specs in waiting.values() for spec in specs]
 
 
 def _limb_segments(limb_points, kinds, degree):

@@ -681,6 +681,31 @@ def test_arms_that_reach_the_middle_by_their_first_node_hang_from_it(no_inset):
     assert mirror["unpaired"] == 0 and mirror["mirror_max"] < 1e-12
 
 
+def test_fingers_of_a_hanging_arm_hang_from_its_hand(no_inset):
+    skeleton = belly_hub()  # three fingers from each hand (nodes 4 and 6, joints now)
+    positions, kinds = [list(p) for p in skeleton.positions], list(skeleton.kinds)
+    links, polylines = [list(link) for link in skeleton.links], list(skeleton.polylines)
+    for hand, x in ((4, 1.5), (6, -1.5)):
+        kinds[hand] = "joint"
+        for z in (0.9, 1.0, 1.1):
+            positions.append([x, 0, z])
+            kinds.append("end")
+            links.append([hand, len(positions) - 1])
+            polylines.append(np.array([positions[hand], positions[-1]], dtype=float))
+    plan = limb_plan(skeleton_of(positions, kinds, links, polylines), bone_detail=1.0)
+    placed = set()
+    for spec in plan:  # parents first
+        assert spec.parent is None or spec.parent in placed, spec.name
+        placed.add(spec.name)
+    names = {spec.name: spec for spec in plan}
+    fingers = [spec for spec in plan if spec.name.startswith("finger")]
+    assert len(fingers) == 6
+    for finger in fingers:  # each from the last bone of its own side's arm
+        side = finger.name[-1]
+        assert finger.parent == f"arm.002.{side}" and finger.use_connect
+        assert names[finger.parent].parent == f"arm.001.{side}"
+
+
 def test_arms_whose_first_node_is_nearer_their_start_keep_it():
     # shoulders at 0.35: 0.61 from the belly, 0.5 from the nearest joint of the head chain
     plan = limb_plan(belly_hub(shoulder=0.35), bone_detail=1.0)
