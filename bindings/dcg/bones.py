@@ -114,10 +114,9 @@ UPRIGHT_PLANE = 45.0
 #: An unpaired limb whose joints keep within this fraction of its length of the mirror plane runs
 #: along it, and may end in a thin tip a little off it yet be of the middle (`_in_the_middle`).
 ALONG_PLANE = 0.25
-#: A limb with a side whose first node is nearer than this fraction of its distance from the
-#: branching node the limb starts at to a joint on the first link of a limb of the middle that
-#: starts there too hangs from that joint instead (`hang_from_middle`: Q_Knight's arms from its
-#: chest, not its belly).
+#: A pair of limbs hangs from a joint on the first link of a limb of the middle that leaves
+#: the same node when their first node lies nearer to that joint than this fraction of its
+#: distance from that node (`hang_from_middle`: Q_Knight's arms from its chest, not its belly).
 HANG_NEARER = 0.5
 #: A limb of the middle whose end lies off the mirror plane for at most this many radii (where
 #: it leaves the plane) of its length ends there instead (`_middle_ends`: spot's head on a horn).
@@ -496,13 +495,15 @@ def _first_node(limb_points):
 def _host(chains, sides, joints, pair, cut):
     """(host limb, joint index) the two limbs of `pair` would hang from by their joints `cut`
     (see hang_from_middle), or None."""
-    starts = {chains[k][0][1] for k in pair}
+    start = chains[pair[0]][0][1]
+    if any(chains[k][0][1] != start for k in pair):
+        return None
     firsts = [joints[k].points[cut] for k in pair]
     reaches = [HANG_NEARER * np.linalg.norm(point - joints[k].points[0])
                for k, point in zip(pair, firsts)]
     best = None
     for m, (limb, (side, _)) in enumerate(zip(chains, sides)):
-        if side is not None or len(starts) != 1 or limb[0][1] not in starts:
+        if side is not None or limb[0][1] != start:
             continue
         for at in range(1, _first_node(joints[m]) + 1):
             worst = max(np.linalg.norm(joints[m].points[at] - point) / max(reach, 1e-300)

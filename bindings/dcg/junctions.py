@@ -97,8 +97,8 @@ def _move(view, plane, node, crossing, other, arriving, near):
     points, radii = _link(view, other, node)
     _set_link(view, other, node, np.vstack([point, points]), np.concatenate([[radius], radii]))
     points, radii = _link(view, arriving, node)  # from the node back to where it came from
-    off = np.abs(plane.signed(points[1:-1])) > near
-    first = 1 + int(np.argmin(off)) if not off.all() else len(points) - 1
+    on_plane = np.flatnonzero(np.abs(plane.signed(points[1:-1])) <= near)
+    first = 1 + int(on_plane[0]) if len(on_plane) else len(points) - 1
     _set_link(view, arriving, node, np.vstack([point, points[first:]]),
               np.concatenate([[radius], radii[first:]]))
     view.positions[node] = point

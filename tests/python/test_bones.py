@@ -25,9 +25,10 @@ def no_inset(monkeypatch):
 
 
 def skeleton_of(positions, kinds, links, polylines=None, root=0, radii=None):
+    """A skeleton of straight links, but for the polylines given (None: that link straight)."""
     positions = np.asarray(positions, dtype=float)
-    if polylines is None:
-        polylines = [positions[[a, b]] for a, b in links]
+    polylines = [positions[[a, b]] if line is None else line
+                 for line, (a, b) in zip(polylines or [None] * len(links), links)]
     return types.SimpleNamespace(
         positions=positions, kinds=np.array(kinds), links=np.array(links),
         polylines=[np.asarray(p, dtype=float) for p in polylines], root=root,
@@ -545,9 +546,6 @@ def frog_hips(foot_x=1.0):
     links = [[0, 1], [1, 2], [2, 3], [1, 4], [4, 5], [0, 6]]
     polylines = [[[0, 0, 0.5], [0.02, 0, 0.3], [0.2, 0, 0.1], [0.3, 0, 0]], None, None,
                  [[0.3, 0, 0], [-0.3, 0, 0], [-1, 0, -1]], None, None]
-    positions = np.asarray(positions, dtype=float)
-    polylines = [positions[link] if line is None else line
-                 for line, link in zip(polylines, links)]
     return skeleton_of(positions, kinds, links, polylines)
 
 
@@ -655,9 +653,6 @@ def belly_hub(shoulder=1.0):
                  [[0, 0, 0], [0.25, 0, 0.5 * shoulder], [0.5, 0, shoulder]], None,
                  [[0, 0, 0], [-0.25, 0, 0.5 * shoulder], [-0.5, 0, shoulder]], None,
                  None, None, None, None]
-    positions = np.asarray(positions, dtype=float)
-    polylines = [positions[link] if line is None else line
-                 for line, link in zip(polylines, links)]
     return skeleton_of(positions, kinds, links, polylines, root=0)
 
 
