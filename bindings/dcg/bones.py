@@ -63,7 +63,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from . import junctions, naming, rolls, symmetry
+from . import junctions, naming, rolls, symmetry, tips
 from .skeleton import measured_polyline_radii
 from .symmetry import MIRROR_TOLERANCE, limb_sides, mirror_plane  # noqa: F401 (this API)
 
@@ -334,7 +334,8 @@ def limb_polyline(skeleton, limb):
     node at point i, -1 between nodes), the link of each segment, and the skeleton radius at
     each point: the nodes' radii, and between them the distance to the surface the engine
     measured there (`polyline_radii`: where the limb narrows between nodes, a neck or a wrist),
-    else (a skeleton without them) the nodes' radii linear in arc length."""
+    else (a skeleton without them) the nodes' radii linear in arc length. A limb that ends at
+    an end node has its rounded tip run on along its line (`dcg.tips.straightened`)."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     measured = measured_polyline_radii(skeleton)
     points, nodes, segment_links, inner_radii = [positions[limb[0][1]]], [limb[0][1]], [], [np.nan]
@@ -359,6 +360,8 @@ def limb_polyline(skeleton, limb):
     radii = np.interp(arc, arc[at], np.asarray(skeleton.radii, dtype=float)[nodes[at]])
     known = np.isfinite(inner_radii) & (inner_radii > 0)
     radii[known] = inner_radii[known]
+    if str(skeleton.kinds[nodes[-1]]) == "end":
+        points = tips.straightened(points, radii)
     return points, nodes, segment_links, radii
 
 
