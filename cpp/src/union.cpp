@@ -34,6 +34,7 @@
 #include <CGAL/centroid.h>
 #include <tbb/parallel_for.h>
 
+#include "canonical_order.h"
 #include "dcg/errors.h"
 #include "surface_mesh_convert.h"
 #include "union_find.h"
@@ -243,37 +244,6 @@ bool sound_union(const std::optional<SM>& united, std::size_t count) {
   return united && (count < 2 || (CGAL::is_closed(*united) && !crosses_itself(*united)));
 }
 
-// `mesh` with its vertices in lexicographic order of position and its faces, each starting at
-// its smallest vertex, in lexicographic order of corners: the same surface whatever order
-// CGAL's corefinement made it in. (It does not keep one: its box intersection draws from CGAL's
-// shared random generator, so Q_Spider's union came out in a different order in every call, and
-// the remeshing after it, and so the skeleton, followed the order: 123 to 139 nodes.)
-Mesh canonical_order(const Mesh& mesh) {
-  const Eigen::Index nv = mesh.V.rows(), nf = mesh.F.rows();
-  std::vector<int> order(nv), rank(nv);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    const auto pa = mesh.V.row(a), pb = mesh.V.row(b);
-    return std::lexicographical_compare(pa.data(), pa.data() + 3, pb.data(), pb.data() + 3);
-  });
-  Mesh out;
-  out.V.resize(nv, 3);
-  for (Eigen::Index i = 0; i < nv; ++i) {
-    rank[order[i]] = static_cast<int>(i);
-    out.V.row(i) = mesh.V.row(order[i]);
-  }
-  std::vector<std::array<int, 3>> faces(nf);
-  for (Eigen::Index f = 0; f < nf; ++f) {
-    std::array<int, 3> c = {rank[mesh.F(f, 0)], rank[mesh.F(f, 1)], rank[mesh.F(f, 2)]};
-    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());  // keeps orientation
-    faces[f] = c;
-  }
-  std::sort(faces.begin(), faces.end());
-  out.F.resize(nf, 3);
-  for (Eigen::Index f = 0; f < nf; ++f) out.F.row(f) << faces[f][0], faces[f][1], faces[f][2];
-  return out;
-}
-
 }  // namespace
 
 std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
@@ -326,6 +296,9 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
     nv += s.V.rows();
     nf += s.F.rows();
   }
+  // CGAL's corefinement does not keep one order: its box intersection draws from CGAL's shared
+  // random generator, so Q_Spider's union came out in a different order in every call, and the
+  // remeshing after it, and so the skeleton, followed the order (123 to 139 nodes).
   return canonical_order(out);
 }
 
