@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <vector>
 
@@ -45,10 +47,25 @@ Mesh canonical_order(const Mesh& mesh) {
 }
 
 Mesh centred_order(const Mesh& mesh) {
-  const Eigen::RowVector3d centre =
-      mesh.V.rows() > 0 ? Eigen::RowVector3d(mesh.V.colwise().mean()) : Eigen::RowVector3d::Zero();
-  std::vector<double> reach(mesh.V.rows());
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) reach[i] = (mesh.V.row(i) - centre).squaredNorm();
+  // On a grid of 2^22 steps across the mesh's largest side, in integers: a mirror pair's two
+  // distances are then equal, not a last bit apart, so rounding (a scaled or moved copy of the
+  // mesh) does not decide which of the two comes first; the position decides.
+  const Eigen::Index nv = mesh.V.rows();
+  if (nv == 0) return mesh;
+  const Eigen::RowVector3d low = mesh.V.colwise().minCoeff();
+  const double side = (mesh.V.colwise().maxCoeff() - low).maxCoeff();
+  const double step = side > 0 ? side / static_cast<double>(1 << 22) : 1.0;
+  Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3> grid(nv, 3);
+  for (Eigen::Index i = 0; i < nv; ++i)
+    for (int k = 0; k < 3; ++k) grid(i, k) = std::llround((mesh.V(i, k) - low(k)) / step);
+  std::array<std::int64_t, 3> centre{};
+  for (int k = 0; k < 3; ++k) centre[k] = grid.col(k).sum() / nv;
+  std::vector<double> reach(nv);  // below 3 x 2^44: exact as a double
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    std::int64_t squared = 0;
+    for (int k = 0; k < 3; ++k) squared += (grid(i, k) - centre[k]) * (grid(i, k) - centre[k]);
+    reach[i] = static_cast<double>(squared);
+  }
   return ordered_by(mesh, reach);
 }
 

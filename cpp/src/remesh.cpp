@@ -143,14 +143,31 @@ Mesh subdivide_midpoints(const Mesh& mesh) {
 // order: Q_Horse's working mesh had 5014 faces on one and 5032 on the other after 3 rounds, and
 // 5 of the 14 rigged characters got other skeletons (rig-quality CD-J2J 3.50 against 3.57).
 // So each round's steps run one at a time on a mesh in centred order (canonical_order.h), and
-// the flips (`equalize_valences`) and the projection (`project_onto`) are ours. The working
-// mesh is then the same on both, to the bit, for the 29 of the 43 bench meshes that are not
-// wrapped or united first (CGAL's wrap and union differ between the two themselves), and
-// whatever the input's numbering (test_prepare). The centred order is one a rotation or a
-// mirror keeps (but for ties): 38 of the 43 keep their ends and joints when rotated, scaled and
-// shaken (36 with CGAL's own order; a lexicographic order gave 37 and cost Mannequiny's fingers
-// their pairing). It costs 0.05-0.13 s of stage 0 on the 25k-face remeshed meshes (horse.ply
-// 0.40 -> 0.47-0.53 s in the same runs).
+// the flips (`equalize_valences`) and the projection (`project_onto`) are ours; the input is
+// snapped to a fine grid first (`snap_to_grid`). The working mesh is then the same on both, to
+// the bit, for 38 of the 43 bench meshes (the other 5 are wrapped or united first, and CGAL's
+// wrap and union differ between the two by more than rounding), and whatever the input's
+// numbering (test_prepare). The centred order is one a rotation or a mirror keeps (but for
+// ties): 38 of the 43 keep their ends and joints when rotated, scaled and shaken (36 with
+// CGAL's own order; a lexicographic order gave 37 and cost Mannequiny's fingers their
+// pairing). It costs 0.05-0.13 s of stage 0 on the 25k-face remeshed meshes (horse.ply 0.40
+// -> 0.47-0.53 s in the same runs).
+
+// Rounds every coordinate of `mesh` to a multiple of the power of two nearest 2^-30 of its
+// bounding box's diagonal (a billionth: no shape moves), so that inputs a rounding apart remesh
+// alike. The splits and collapses take equally long edges in an order the last bits decide, and the
+// skeleton follows the working mesh: a small ellipsoid of the tests scaled by 1e-6 (normalized,
+// it differs in the last bits) ended 12% of its diagonal short on one of its two ends, and
+// numpy 1.24 and 2.2 draw its sines a bit apart.
+void snap_to_grid(Mesh& mesh) {
+  if (mesh.V.rows() == 0) return;
+  const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+  if (!(diagonal > 0) || !std::isfinite(diagonal)) return;
+  // The nearest power of two (a normalized mesh's diagonal is 1 give or take a last bit, where
+  // the power of two below it would jump).
+  const double step = std::ldexp(1.0, static_cast<int>(std::lround(std::log2(diagonal))) - 30);
+  mesh.V = (mesh.V / step).array().round().matrix() * step;
+}
 
 // `mesh` as a Surface_mesh, in its own vertex and face order. InputError when a face does not
 // fit a manifold surface.
@@ -248,6 +265,7 @@ Mesh remesh_uniform(const Mesh& input, int target_faces,
   while (mesh.F.rows() > 0 && 2 * mesh.F.rows() < std::max(target_faces, kMinRemeshFaces)) {
     mesh = subdivide_midpoints(mesh);
   }
+  snap_to_grid(mesh);
   SM sm = to_surface_mesh(mesh);
   // CGAL's isotropic remeshing segfaults when its target edge is long compared with the shape
   // (a tetrahedron at target_faces 64 collapses into something it cannot handle; found by

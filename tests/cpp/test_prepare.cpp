@@ -316,6 +316,30 @@ TEST(Prepare, RemeshingGivesTheSameMeshWhateverTheInputsNumbering) {
   EXPECT_TRUE(a.working.F == b.working.F);
 }
 
+// Normalized, a scaled and moved copy differs from the original in the last bits only, and the
+// remeshing starts from its input snapped to a grid far finer than any shape: the working
+// meshes are the same. (Without the snap, equally long edges split and collapsed in an order
+// the last bits decided, and a small ellipsoid scaled by 1e-6 lost 12% of its diagonal on one
+// end.)
+TEST(Prepare, ScaledAndMovedCopiesRemeshAlike) {
+  const Mesh m = test::transformed(test::icosphere(1), Eigen::Vector3d(2.0, 1.0, 0.6).asDiagonal(),
+                                   1.0, Eigen::Vector3d::Zero());
+  dcg::PrepareOptions o;
+  o.target_faces = 3000;
+  o.upsample = true;
+  const dcg::PreparedMesh a = dcg::prepare_mesh(m.V, m.F, o);
+  ASSERT_TRUE(a.remeshed);
+  for (const double scale : {1e-6, 1e6}) {
+    const Mesh copy = test::transformed(m, Eigen::Matrix3d::Identity(), scale,
+                                        Eigen::Vector3d(3 * scale, -scale, 0.5 * scale));
+    const dcg::PreparedMesh b = dcg::prepare_mesh(copy.V, copy.F, o);
+    ASSERT_EQ(a.working.V.rows(), b.working.V.rows()) << scale;
+    ASSERT_EQ(a.working.F.rows(), b.working.F.rows()) << scale;
+    EXPECT_TRUE(a.working.F == b.working.F) << scale;
+    EXPECT_LT((a.working.V - b.working.V).cwiseAbs().maxCoeff(), 1e-9) << scale;
+  }
+}
+
 TEST(Prepare, HugeInputIsReducedFastIntoAClosedManifoldWithACompleteMap) {
   // 160,000 faces: far above 3 x target_faces, so stage 0 first reduces it by its pass-wise edge
   // collapse (to 1.5 x target_faces) before the remeshing.
