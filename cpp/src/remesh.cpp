@@ -141,7 +141,7 @@ Mesh subdivide_midpoints(const Mesh& mesh) {
 // CGAL 5.5 (Debian 12) and CGAL 6 (Debian 13) split and collapse the same edges but number the
 // vertices they make differently, and the valence flips after them visit the edges in that
 // order: Q_Horse's working mesh had 5014 faces on one and 5032 on the other after 3 rounds, and
-// 5 of the 14 rigged characters got other skeletons (rig-quality CD-J2J 3.50 against 3.57).
+// 7 of the 14 rigged characters got other skeletons (rig-quality CD-J2J 3.50 against 3.57).
 // So each round's steps run one at a time on a mesh in centred order (canonical_order.h), and
 // the flips (`equalize_valences`) and the projection (`project_onto`) are ours; the input is
 // snapped to a fine grid first (`snap_to_grid`). The working mesh is then the same on both, to
@@ -155,10 +155,10 @@ Mesh subdivide_midpoints(const Mesh& mesh) {
 
 // Rounds every coordinate of `mesh` to a multiple of the power of two nearest 2^-30 of its
 // bounding box's diagonal (a billionth: no shape moves), so that inputs a rounding apart remesh
-// alike. The splits and collapses take equally long edges in an order the last bits decide, and the
-// skeleton follows the working mesh: a small ellipsoid of the tests scaled by 1e-6 (normalized,
-// it differs in the last bits) ended 12% of its diagonal short on one of its two ends, and
-// numpy 1.24 and 2.2 draw its sines a bit apart.
+// alike. The splits and collapses take equally long edges in an order the last bits decide,
+// and the skeleton follows the working mesh: a small ellipsoid of the tests scaled by 1e-6
+// (normalized, it differs in the last bits) ended 12% of its diagonal short on one of its two
+// ends, and numpy 1.24 and 2.2 draw its sines a bit apart.
 void snap_to_grid(Mesh& mesh) {
   if (mesh.V.rows() == 0) return;
   const double diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
