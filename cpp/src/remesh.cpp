@@ -149,7 +149,7 @@ Mesh subdivide_midpoints(const Mesh& mesh) {
 // wrap and union differ between the two by more than rounding), and whatever the input's
 // numbering (test_prepare). The centred order is one a rotation or a mirror keeps (but for
 // ties): 38 of the 43 keep their ends and joints when rotated, scaled and shaken (36 with
-// CGAL's own order; a lexicographic order gave 37 and cost Mannequiny's fingers their
+// CGAL's own order; a lexicographic order gave 37 and left 4 of Mannequiny's limbs without
 // pairing). It costs 0.05-0.13 s of stage 0 on the 25k-face remeshed meshes (horse.ply 0.40
 // -> 0.47-0.53 s in the same runs).
 
