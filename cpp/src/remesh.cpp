@@ -12,7 +12,6 @@
 #include "remesh.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -237,18 +236,23 @@ void equalize_valences(SM& sm) {
   }
 }
 
-// Moves every vertex of `sm` to its closest point on `surface`.
-void project_onto(SM& sm, const SM& surface) {
+// The faces of `sm` that are not degenerate, as triangles (what CGAL's remeshing projects onto).
+Triangles surface_triangles(const SM& sm) {
   Triangles triangles;
-  triangles.reserve(surface.number_of_faces());
-  for (auto f : surface.faces()) {
-    const SM::Halfedge_index h = surface.halfedge(f);
-    const K::Triangle_3 t(surface.point(surface.source(h)), surface.point(surface.target(h)),
-                          surface.point(surface.target(surface.next(h))));
+  triangles.reserve(sm.number_of_faces());
+  for (auto f : sm.faces()) {
+    const SM::Halfedge_index h = sm.halfedge(f);
+    const K::Triangle_3 t(sm.point(sm.source(h)), sm.point(sm.target(h)),
+                          sm.point(sm.target(sm.next(h))));
     if (!t.is_degenerate()) triangles.push_back(t);
   }
-  if (triangles.empty()) return;
-  const Tree tree(triangles.begin(), triangles.end());
+  return triangles;
+}
+
+// Moves every vertex of `sm` to its closest point on `surface` (surface_triangles).
+void project_onto(SM& sm, const Triangles& surface) {
+  if (surface.empty()) return;
+  const Tree tree(surface.begin(), surface.end());
   for (auto v : sm.vertices()) sm.point(v) = tree.closest_point(sm.point(v));
 }
 
@@ -316,7 +320,7 @@ Mesh remesh_uniform(const Mesh& input, int target_faces,
                         .vertex_is_constrained_map(not_constrained);
   sm = canonical(sm);
   for (int iteration = 0; iteration < 3; ++iteration) {
-    const SM start = sm;
+    const Triangles start = surface_triangles(sm);
     PMP::isotropic_remeshing(faces(sm), L, sm, step.do_split(true));
     sm = canonical(sm);
     PMP::isotropic_remeshing(faces(sm), L, sm, step.do_collapse(true));

@@ -14,7 +14,6 @@
 #include <exception>
 #include <functional>
 #include <iterator>
-#include <numeric>
 #include <optional>
 #include <utility>
 #include <vector>
