@@ -91,6 +91,7 @@ void bind_prepared(py::module_& m) {
       .field("components", &R::components)
       .field("fin_faces", &R::fin_faces)
       .field("filled_holes", &R::filled_holes)
+      .field("cavities", &R::cavities)
       .def_property_readonly("closed_manifold", &R::closed_manifold);
 
   using P = dcg::PreparedMesh;

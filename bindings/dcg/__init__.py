@@ -156,11 +156,14 @@ def repair_summary(prepared) -> Optional[str]:
         return (f"{found}: skeleton of its alpha wrap, a closed proxy that smooths over "
                 f"details below {prepared.wrap_alpha:.1%} of the bounding-box diagonal")
     fins, holes = r.get("fin_faces", 0), r.get("filled_holes", 0)
+    cavities = r.get("cavities", 0)
     done = ""
     if fins:
         done += f", leaving out {fins} faces of zero-volume fins or inner walls"
     if holes:
         done += f", once its {_count(holes, 'hole')} {'is' if holes == 1 else 'are'} filled"
+    if cavities:
+        done += f", and {_count(cavities, 'cavity', 'cavities')} enclosed between the parts filled"
     return f"{found}: skeleton of the union of its closed parts{done}"
 
 

@@ -8,6 +8,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "compact_mesh.h"
 #include "dcg/errors.h"
 #include "dcg/prepare.h"
 #include "edge_table.h"
@@ -145,6 +146,17 @@ bool orient_consistently(Faces& F, const std::vector<std::array<int, 3>>& neighb
   return orientable;
 }
 
+// Six times the signed volume enclosed by each component of (V, F) (divergence theorem: positive
+// when it faces outward).
+std::vector<double> six_volumes(const Vertices& V, const Faces& F, const Topology& topology) {
+  std::vector<double> volume(topology.components, 0.0);
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    volume[topology.component[f]] += a.dot(b.cross(c));
+  }
+  return volume;
+}
+
 }  // namespace
 
 std::pair<int, double> border_loops(const Vertices& V,
@@ -188,16 +200,26 @@ Orientation orient_outward(const Vertices& V, Faces& F, const Topology& topology
   Orientation o;
   o.orientable = orient_consistently(F, topology.neighbours, poll);
   // Outward: positive signed volume per component.
-  std::vector<double> volume(topology.components, 0.0);
-  for (int f = 0; f < F.rows(); ++f) {
-    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    volume[topology.component[f]] += a.dot(b.cross(c));
-  }
+  const std::vector<double> volume = six_volumes(V, F, topology);
   for (int f = 0; f < F.rows(); ++f) {
     if (volume[topology.component[f]] < 0) std::swap(F(f, 1), F(f, 2));
   }
   for (double v : volume) o.enclosed_volume += std::abs(v) / 6.0;
   return o;
+}
+
+int drop_cavities(Mesh& mesh) {
+  const Topology topology = analyze_topology(mesh.V, mesh.F);
+  const std::vector<double> volume = six_volumes(mesh.V, mesh.F, topology);
+  const auto cavities = std::count_if(volume.begin(), volume.end(), [](double v) { return v < 0; });
+  if (cavities == 0 || cavities == static_cast<long>(volume.size())) return 0;
+  std::vector<std::array<int, 3>> kept;
+  for (int f = 0; f < mesh.F.rows(); ++f) {
+    if (volume[topology.component[f]] >= 0)
+      kept.push_back({mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)});
+  }
+  mesh = compact_mesh(mesh.V, kept);
+  return static_cast<int>(cavities);
 }
 
 int folded_edges(const Mesh& mesh) {

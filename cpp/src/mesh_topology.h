@@ -58,6 +58,12 @@ struct Orientation {
 Orientation orient_outward(const Vertices& V, Faces& F, const Topology& topology,
                            const std::function<void()>& poll = {});
 
+/// Removes the cavities of a closed, consistently oriented mesh: its components whose signed
+/// volume is negative, inner shells that face inward (the walls of a void that the solid
+/// encloses), unless no other component would be left. Returns how many it removed.
+///   mesh  V #V by 3, F #F by 3; the vertices that only the cavities used go with them
+int drop_cavities(Mesh& mesh);
+
 /// The number of edges of a closed, consistently oriented mesh whose two faces fold flat onto
 /// each other: their unit normals opposite to within 1e-8 (a dihedral angle of about 1e-4 rad
 /// or less). mesh: V #V by 3, F #F by 3.

@@ -35,6 +35,7 @@
 
 #include "canonical_order.h"
 #include "dcg/errors.h"
+#include "mesh_topology.h"
 #include "surface_mesh_convert.h"
 #include "union_find.h"
 
@@ -245,8 +246,8 @@ bool sound_union(const std::optional<SM>& united, std::size_t count) {
 
 }  // namespace
 
-std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
-                                          const std::function<void(double)>& poll_in) {
+std::optional<United> union_of_closed_parts(const Mesh& mesh,
+                                            const std::function<void(double)>& poll_in) {
   const std::function<void(double)> poll = poll_in ? poll_in : [](double) {};
   std::vector<Point> points;
   std::vector<std::array<std::size_t, 3>> faces;
@@ -295,10 +296,13 @@ std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
     nv += s.V.rows();
     nf += s.F.rows();
   }
+  United united;
+  united.cavities = drop_cavities(out);
   // CGAL's corefinement does not keep one order: its box intersection draws from CGAL's shared
   // random generator, so Q_Spider's union came out in a different order in every call, and the
   // remeshing after it, and so the skeleton, followed the order (123 to 139 nodes).
-  return canonical_order(out);
+  united.mesh = canonical_order(out);
+  return united;
 }
 
 std::optional<FilledMesh> fill_holes(const Mesh& mesh, int max_edges) {

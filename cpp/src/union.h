@@ -11,8 +11,16 @@
 
 namespace dcg::internal {
 
+/// What union_of_closed_parts made.
+struct United {
+  Mesh mesh;         ///< the union, a shell per disjoint part
+  int cavities = 0;  ///< voids enclosed by the united parts, filled (their inner shells dropped)
+};
+
 /// The union of the closed parts of (V, F) as one closed, oriented 2-manifold (a shell per
-/// disjoint part; a part inside another one disappears into it), when every part allows it:
+/// disjoint part; a part inside another one disappears into it, and so does a void that parts
+/// enclose between them: Mannequiny's ankles and feet enclose two, each the size of a grain
+/// of sand, that the remeshing turned into tetrahedra facing inward), when every part allows it:
 /// each connected component (after splitting pinched vertices into one vertex per fan) must be
 /// a closed, orientable 2-manifold that encloses a volume, and one that is to be united with
 /// another must not intersect itself. Parts whose
@@ -25,8 +33,8 @@ namespace dcg::internal {
 ///   mesh  #V by 3 vertices, #F by 3 faces, every edge in exactly two faces, consistently
 ///         oriented (each part is turned outward here)
 /// `poll` (if set) is called between the steps and the unions; it may throw (Cancelled).
-std::optional<Mesh> union_of_closed_parts(const Mesh& mesh,
-                                          const std::function<void(double)>& poll = {});
+std::optional<United> union_of_closed_parts(const Mesh& mesh,
+                                            const std::function<void(double)>& poll = {});
 
 /// What fill_holes made.
 struct FilledMesh {

@@ -626,6 +626,50 @@ void expect_united_not_wrapped(const dcg::PreparedMesh& pm, int components) {
   EXPECT_EQ(test::component_count(pm.working), components);
 }
 
+// The box [lo, hi], 12 triangles facing outward.
+Mesh box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  std::vector<Eigen::Vector3d> V;
+  for (int i = 0; i < 8; ++i)
+    V.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  std::vector<std::array<int, 3>> F;
+  const Eigen::Vector3d centre = (lo + hi) / 2;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = 1 << ((axis + 1) % 3), w = 1 << ((axis + 2) % 3);
+    for (int side : {0, 1 << axis}) {
+      for (std::array<int, 3> t : {std::array<int, 3>{side, side + u, side + u + w},
+                                   std::array<int, 3>{side, side + u + w, side + w}}) {
+        const Eigen::Vector3d normal = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]);
+        if (normal.dot(V[t[0]] - centre) < 0) std::swap(t[1], t[2]);
+        F.push_back(t);
+      }
+    }
+  }
+  return test::make_mesh(V, F);
+}
+
+// Six slabs, the walls of a hollow box, each overlapping its neighbours: each is a solid, but
+// their union encloses the box's inside, a void whose walls CGAL's union keeps as a shell facing
+// inward. Stage 0 fills it: one shell, the void inside the solid, and the report says so.
+TEST(Repair, AVoidThePartsEncloseIsFilled) {
+  Mesh walls = box({0.8, -1, -1}, {1, 1, 1});
+  for (const auto& [lo, hi] : std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>{
+           {{-1, -1, -1}, {-0.8, 1, 1}},
+           {{-0.9, 0.78, -0.96}, {0.9, 0.98, 0.96}},
+           {{-0.9, -0.98, -0.96}, {0.9, -0.78, 0.96}},
+           {{-0.88, -0.93, 0.76}, {0.88, 0.93, 0.94}},
+           {{-0.88, -0.93, -0.94}, {0.88, 0.93, -0.76}}})
+    walls = test::merged(walls, box(lo, hi));
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(walls.V, walls.F, keep_input());
+  EXPECT_EQ(pm.report.components, 6);
+  EXPECT_EQ(pm.report.cavities, 1);
+  expect_united_not_wrapped(pm, 1);
+  EXPECT_TRUE(pm.query->inside(((Eigen::RowVector3d(0, 0, 0) - pm.offset) / pm.scale).transpose()))
+      << "the void is inside the solid";
+  const Mesh apart = beside_a_small_sphere(test::icosphere(2));
+  EXPECT_EQ(dcg::prepare_mesh(apart.V, apart.F, keep_input()).report.cavities, 0)
+      << "a part beside another encloses nothing";
+}
+
 // Stage 0 unites what is left instead of wrapping, and says how many faces it left out.
 TEST(Repair, FinsOnClosedPartsAreDroppedAndThePartsUnitedNotWrapped) {
   const Mesh parts = beside_a_small_sphere(with_fin(test::icosphere(3)));

@@ -248,6 +248,11 @@ def test_repair_summary_says_what_stage_0_did(meshes_dir):
     prepared = dcg.Extractor(V, F).prepare()
     assert prepared.wrap_alpha == 0 and prepared.report["fin_faces"] == 4
     assert "leaving out 4 faces of zero-volume fins" in dcg.repair_summary(prepared)
+    # Mannequiny's ankles and feet enclose two specks of void between them: filled, and said so.
+    V, F = dcg.load_mesh(meshes_dir / "rigged" / "Mannequiny.obj")
+    prepared = dcg.Extractor(V, F).prepare()
+    assert prepared.report["cavities"] == 2
+    assert "2 cavities enclosed between the parts filled" in dcg.repair_summary(prepared)
 
 
 def test_limit_threads_caps_the_engines_threads_and_lifts_again():

@@ -66,6 +66,9 @@ struct MeshReport {
   /// Holes (border loops) triangulated to close the mesh, which is then the union of its parts
   /// (no wrap): only when every hole is small.
   int filled_holes = 0;
+  /// Voids enclosed by the parts once united (not by any one part), filled: their inner shells
+  /// are left out of the working mesh.
+  int cavities = 0;
   bool closed_manifold() const {
     return border_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 && orientable;
   }
