@@ -5,6 +5,8 @@
 // - A peak's protrusion is its watershed region at its valley: the vertices with f above the
 //   valley connected to the peak, found by a flood fill that gives up past kFingerVertices of
 //   the mesh (a finger is small; a big region is a limb or the body, and the fill stays cheap).
+//   A peak that a sibling finger ended in is cut higher, at that sibling's valley
+//   (sibling_levels).
 // - Its base is the region's vertices with a neighbour outside; length and width are measured
 //   from the base's centre, so they do not depend on the mesh's scale or orientation.
 // - Peaks are grouped by the prong their region ended in (following partners until a prong,
@@ -13,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -28,10 +31,10 @@ struct Protrusion {
   double aspect = 0;  // length over the base's mean radius (0: too big, or no base)
 };
 
-// The region {f > valley} around a peak, flood-filled (mark[v] == stamp inside); false when it
+// The region {f > level} around a peak, flood-filled (mark[v] == stamp inside); false when it
 // grows past `cap` vertices.
 bool fill_region(const Eigen::VectorXd& f, const std::vector<int>& start,
-                 const std::vector<int>& adjacency, const Peak& peak, int cap,
+                 const std::vector<int>& adjacency, const Peak& peak, double level, int cap,
                  std::vector<int>& mark, int stamp, std::vector<int>& region) {
   region.assign(1, peak.vertex);
   mark[peak.vertex] = stamp;
@@ -39,7 +42,7 @@ bool fill_region(const Eigen::VectorXd& f, const std::vector<int>& start,
     const int u = region[i];
     for (int e = start[u]; e < start[u + 1]; ++e) {
       const int v = adjacency[e];
-      if (mark[v] == stamp || !(f[v] > peak.valley)) continue;
+      if (mark[v] == stamp || !(f[v] > level)) continue;
       if (static_cast<int>(region.size()) >= cap) return false;
       mark[v] = stamp;
       region.push_back(v);
@@ -72,6 +75,27 @@ void measure(const Points& V, const std::vector<int>& start, const std::vector<i
   if (radius > 0) out.aspect = out.length / radius;
 }
 
+// The level each peak's protrusion is cut at (by peak vertex; only those above their valley):
+// the valley of the highest sibling that ended in its region and stands out at least half as
+// far above that valley as the peak itself (a finger beside it, not a bump on it). Without
+// it, of two fingers side by side the lower one's region is its own, but the higher one's holds
+// both down to the knuckles: a base twice as wide, and an aspect that flips with the order of
+// the two, which a tiny noise decides (Mannequiny's middle finger: 5.1 or 3.8).
+std::unordered_map<int, double> sibling_levels(const std::vector<Peak>& peaks, double max_ratio) {
+  std::unordered_map<int, const Peak*> by_vertex;
+  for (const Peak& p : peaks) by_vertex[p.vertex] = &p;
+  std::unordered_map<int, double> level;
+  for (const Peak& c : peaks) {
+    if (!(c.ratio < max_ratio) || c.partner < 0) continue;
+    const auto parent = by_vertex.find(c.partner);
+    if (parent == by_vertex.end()) continue;
+    if (c.value - c.valley < 0.5 * (parent->second->value - c.valley)) continue;
+    auto [it, fresh] = level.emplace(c.partner, c.valley);
+    if (!fresh) it->second = std::max(it->second, c.valley);
+  }
+  return level;
+}
+
 }  // namespace
 
 std::vector<const Peak*> ProngHierarchy::fingers(double tau,
@@ -84,13 +108,16 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
   std::vector<Protrusion> found;
   std::vector<int> mark(n, -1), region;
   const int cap = std::max(1, static_cast<int>(kFingerVertices * n));
+  const std::unordered_map<int, double> siblings = sibling_levels(peaks_, kFingerRatio);
   for (const Peak& q : peaks_) {
     if (!(q.ratio < kFingerRatio) || found.size() >= kMaxCandidates) break;
     if (q.ratio < tau || q.global || prong_vertices.count(q.vertex)) continue;
     Protrusion t;
     t.peak = &q;
     const int stamp = static_cast<int>(found.size());
-    if (fill_region(f_, adjacency_start_, adjacency_, q, cap, mark, stamp, region))
+    const auto sibling = siblings.find(q.vertex);
+    const double level = sibling == siblings.end() ? q.valley : std::max(q.valley, sibling->second);
+    if (fill_region(f_, adjacency_start_, adjacency_, q, level, cap, mark, stamp, region))
       measure(mesh_.V, adjacency_start_, adjacency_, mark, stamp, region, t);
     t.hand = region_prong(q, prong_vertices);
     found.push_back(t);

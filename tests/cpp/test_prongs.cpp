@@ -318,6 +318,23 @@ TEST(Prongs, AHandsFingersAreProngsTooAndHornsAreNot) {
   }
 }
 
+// A noise of 1e-5 of the diagonal must not change which of Mannequiny's peaks are fingers. Two
+// fingers side by side meet at a saddle; the higher one's region, cut at its own valley, held
+// both down to the knuckles, so its aspect (about 5 alone) fell below kFingerAspect whenever the
+// noise made the other one the lower, and the hand lost its fingers: draw 9 of the 40 drawn
+// (3 fingers). Now the region is cut at the other finger's valley (sibling_levels). (Draw 15
+// still loses one thumb, before and after: its own valley moves with the geodesic sources.)
+TEST(Prongs, AHandKeepsItsFingersUnderATinyNoise) {
+  const std::string dir = test::meshes_dir();
+  if (!std::filesystem::exists(dir + "/rigged/Mannequiny.obj")) GTEST_SKIP() << dir;
+  const Mesh body = dcg::read_mesh(dir + "/rigged/Mannequiny.obj");
+  for (unsigned seed : {1u, 2u, 3u, 9u}) {
+    std::mt19937 rng(seed);
+    const dcg::ProngFeatures pf = prongs_of(test::with_noise(body, 1e-5, rng));
+    EXPECT_EQ(pf.prongs.fingers, 6) << "draw " << seed << ratios(pf, 20);
+  }
+}
+
 // Spot's hind legs stand close: the second meets the first at the crotch (ratio 0.859, past tau)
 // and is kept as its mirror twin; armadillo's second ear mirrors the first (ratio 0.861) but is a
 // feature on the head, 0.26 of the mean geodesic distance long (kTwinLength 0.35), not a limb.

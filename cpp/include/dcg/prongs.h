@@ -109,7 +109,8 @@ struct Prongs {
 /// a character whose body is 30 finger lengths tall), with a horn's or an ear's. What tells
 /// them apart is their shape and number: a finger is long and thin, and a hand has several
 /// side by side. A peak is also a prong, at any tau, when its ratio is below kFingerRatio, its
-/// region above its valley (at most kFingerVertices of the mesh) is at least kFingerAspect
+/// region above its valley (or above the valley of a finger beside it that ended in its region:
+/// its own finger, not both; at most kFingerVertices of the mesh) is at least kFingerAspect
 /// times as long (from its base's centre to its farthest point) as its base is wide (the mean
 /// distance of the base's vertices to their centre), and at least kFingerCount such peaks that
 /// end in one prong's region stand within kFingerSpread lengths of each other; then also the
