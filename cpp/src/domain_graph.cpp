@@ -33,6 +33,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // How far (in tube radii) an end point's ball may reach out of the body's tube at its junction
 // and still be a bump on it (see is_bump).
 constexpr double kBumpReach = 0.6;
+// A cycle whose points see each other but across cracks, out of the shape along no segment
+// between two of them for more than this many times the smaller of their radii, runs around a
+// pinhole tunnel or a slit where parts barely meet, not around a handle (see keep_handle_cycles).
+constexpr double kCrack = 1.0;
 
 using internal::UnionFind;
 
@@ -105,6 +109,60 @@ bool all_see_each_other(const SurfaceQuery& query, const Points& points,
     }
   }
   return none_blocked(query, a, b);
+}
+
+// How long the segment a-b runs outside the shape, a inside: the stretches from where it
+// leaves (through the back of a face) to where it comes in again, or to b.
+double outside_length(const SurfaceQuery& query, const Eigen::Vector3d& a,
+                      const Eigen::Vector3d& b) {
+  const double length = (b - a).norm();
+  if (!(length > 0)) return 0;
+  const Eigen::Vector3d d = (b - a) / length;
+  // Past the face just hit: Embree hits in float, so a step of 1e-9 of the segment hit the same
+  // face again (in normalized units, where the working mesh's diagonal is 1).
+  const double step = 1e-6;
+  double t = 0, left = -1, outside = 0;
+  for (int hit = 0; hit < 64; ++hit) {
+    int f = -1;
+    const double h = query.ray_hit(a + t * d, d, &f);
+    if (!(t + h < length) || f < 0) break;
+    t += h;
+    if (query.face_normal(f).dot(d) > 0) {
+      if (left < 0) left = t;
+    } else if (left >= 0) {
+      outside += t - left;
+      left = -1;
+    }
+    t += step;
+  }
+  return left >= 0 ? outside + length - left : outside;
+}
+
+// Whether every pair of `pts` sees each other, or but across a crack: the segment between two
+// of them is outside the shape for at most kCrack times the smaller of their radii.
+bool see_each_other_across_cracks(const SurfaceQuery& query, const Points& points,
+                                  const Eigen::VectorXd& radii, const std::vector<int>& pts) {
+  std::vector<std::pair<int, int>> pairs;
+  std::vector<double> a, b;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    for (std::size_t j = i + 1; j < pts.size(); ++j) {
+      pairs.emplace_back(pts[i], pts[j]);
+      for (int k = 0; k < 3; ++k) {
+        a.push_back(points(pts[i], k));
+        b.push_back(points(pts[j], k));
+      }
+    }
+  }
+  std::vector<unsigned char> blocked(pairs.size());
+  if (!pairs.empty())
+    query.segments_blocked(a.data(), b.data(), static_cast<int>(pairs.size()), 0.0, blocked.data());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto [p, q] = pairs[k];
+    if (blocked[k] && outside_length(query, points.row(p).transpose(), points.row(q).transpose()) >
+                          kCrack * std::min(radii[p], radii[q]))
+      return false;
+  }
+  return true;
 }
 
 // Whether the cycle through `pts` spans a disk inside the shape: its centroid is inside and
@@ -785,7 +843,8 @@ void keep_handle_cycles(GraphWork& w, int genus) {
     std::vector<int> pts, links;
     paths.cycle(g.candidates, l, pts, links);
     // The fan (one segment per point) before the pairs (one per pair of points).
-    if (spans_inner_disk(w.query, g.points, pts) || all_see_each_other(w.query, g.points, pts)) {
+    if (spans_inner_disk(w.query, g.points, pts) ||
+        see_each_other_across_cracks(w.query, g.points, g.radii, pts)) {
       ++g.cycles_rejected_visible;
       continue;
     }

@@ -30,8 +30,10 @@
 //     others, so that end points are leaves whenever the rest is connected without them;
 //   - non-tree links, cheapest first, close a cycle (tree path + link) that is kept only while
 //     fewer than `genus` are kept, when not all of its points see each other (it goes around a
-//     handle), and when it does not duplicate a kept cycle: their symmetric difference must not
-//     split into loops whose points all see each other;
+//     handle; a segment between two of them that leaves the shape for no more than the
+//     smaller of their radii only crosses a crack or a pinhole tunnel, as where Mannequiny's
+//     knee parts barely meet), and when it does not duplicate a kept cycle: their symmetric
+//     difference must not split into loops whose points all see each other;
 //   - leaves that are not end points are pruned repeatedly; a shape with at most one end point
 //     and no cycle (a sphere, an egg, a teardrop) keeps its longest tree path instead, so that
 //     the skeleton still has a spine (and two end nodes);
@@ -107,8 +109,9 @@ struct DomainGraph {
   Edges candidates;                 ///< #L point pairs (a < b) whose regions share an edge
   Eigen::VectorXd costs;            ///< #L mean |F| along the segment (infinity: leaves the shape)
   Eigen::VectorXi candidate_state;  ///< #L 0 unused, 1 tree link, 2 kept cycle link
-  /// candidates whose cycle points all see each other, or whose cycle spans a disk inside the
-  /// shape (its centroid inside and seeing all of them: a crotch, not a handle)
+  /// candidates whose cycle points all see each other (but across cracks narrower than their
+  /// radii), or whose cycle spans a disk inside the shape (its centroid inside and seeing all
+  /// of them: a crotch, not a handle)
   int cycles_rejected_visible = 0;
   int cycles_rejected_duplicate = 0;  ///< candidates duplicating a kept cycle
   /// candidates added between parts that the links staying inside left apart (one step along
