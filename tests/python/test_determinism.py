@@ -9,6 +9,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 import dcg
 
@@ -40,6 +41,35 @@ def test_same_skeleton_in_separate_processes(repo):
     assert len(digests) == 1, digests
     assert len(next(iter(digests))) == len(hashlib.sha256().hexdigest())
 
+
+
+@pytest.mark.parametrize("draw", [1, 3, 12])
+def test_a_tiny_noise_leaves_mannequinys_skeleton_whole(meshes_dir, draw):
+    # Mannequiny with 1e-5 of its diagonal of noise on its vertices, as a re-export might leave
+    # it. Each of these draws broke its skeleton: 1, a stray node in a void its ankle and foot
+    # enclose (stage 0 fills such voids now) and a loop at a knee; 3, a hand's fingers lost (a
+    # finger measured with its neighbour, sibling_levels); 12, a loop around the tiny tunnel
+    # where its knee parts barely meet (a crack, not a handle, keep_handle_cycles).
+    from dcg import bones
+
+    V, F = dcg.load_mesh(meshes_dir / "rigged" / "Mannequiny.obj")
+    diagonal = np.linalg.norm(np.ptp(V, axis=0))
+    V = V + np.random.default_rng(draw).normal(size=V.shape) * 1e-5 * diagonal
+    skeleton = dcg.extract_skeleton(V, F)
+    n, links = skeleton.node_count, skeleton.links
+    parent = list(range(n))
+
+    def root(i):
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    for a, b in links:
+        parent[root(a)] = root(b)
+    assert len({root(i) for i in range(n)}) == 1, "one skeleton, no stray node"
+    assert len(links) == n - 1, "a tree: no loop"
+    assert list(skeleton.kinds).count("end") == 11, "2 feet, the head, 4 ends on each hand"
+    assert bones.unpaired_limbs(skeleton, np.array([0.0, 0.0, 1.0])) == 0
 
 
 def test_union_of_parts_is_the_same_in_every_call(meshes_dir):
