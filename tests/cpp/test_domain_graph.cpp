@@ -46,6 +46,16 @@ dcg::Points ring(int count) {
   return p;
 }
 
+// The domain graph of ring(10) in a torus of ring radius 1 and tube radius `tube` told it has
+// genus `genus`; `faces` (if set) gets the torus mesh's face count.
+dcg::DomainGraph ring_graph(double tube, int genus, int* faces = nullptr) {
+  Scene s(test::torus(1.0, tube, 64, 24));
+  const dcg::Points p = ring(10);
+  if (faces) *faces = static_cast<int>(s.mesh.F.rows());
+  return dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p),
+                                   Eigen::VectorXi::Constant(10, -1), genus);
+}
+
 void expect_labels_are_a_partition(const dcg::DomainGraph& g, int faces) {
   ASSERT_EQ(g.face_labels.size(), faces);
   EXPECT_EQ(g.faces_seeded + g.faces_grown + g.faces_filled, faces);
@@ -57,11 +67,9 @@ void expect_labels_are_a_partition(const dcg::DomainGraph& g, int faces) {
 }
 
 TEST(DomainGraph, TorusRingGivesOneCycleAndNoEnd) {
-  Scene s(test::torus(1.0, 0.35, 64, 24));
-  const dcg::Points p = ring(10);
-  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p),
-                                                       Eigen::VectorXi::Constant(10, -1), 1);
-  expect_labels_are_a_partition(g, static_cast<int>(s.mesh.F.rows()));
+  int faces = 0;
+  const dcg::DomainGraph g = ring_graph(0.35, 1, &faces);
+  expect_labels_are_a_partition(g, faces);
   EXPECT_EQ(g.candidates.rows(), 10) << "each ring point touches its two neighbours only";
   for (Eigen::Index l = 0; l < g.costs.size(); ++l) EXPECT_TRUE(std::isfinite(g.costs[l]));
   EXPECT_EQ(g.cycles, 1);
@@ -71,10 +79,7 @@ TEST(DomainGraph, TorusRingGivesOneCycleAndNoEnd) {
 }
 
 TEST(DomainGraph, GenusCapsTheCycles) {
-  Scene s(test::torus(1.0, 0.35, 64, 24));
-  const dcg::Points p = ring(10);
-  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p),
-                                                       Eigen::VectorXi::Constant(10, -1), 0);
+  const dcg::DomainGraph g = ring_graph(0.35, 0);
   EXPECT_EQ(g.cycles, 0);
   // A tree without end points keeps its longest path: two ends, no joint.
   int ends = 0;
@@ -109,10 +114,7 @@ TEST(DomainGraph, CyclesWhosePointsSeeEachOtherAreNotHandles) {
 // meet, have such tunnels: 0.3 radii). The torus of TorusRingGivesOneCycleAndNoEnd (hole 1.3
 // across, 3.7 radii) keeps its cycle.
 TEST(DomainGraph, ALoopAroundAPinholeIsNotAHandle) {
-  Scene s(test::torus(1.0, 0.8, 64, 24));
-  const dcg::Points p = ring(10);
-  const dcg::DomainGraph g = dcg::compute_domain_graph(s.mesh, *s.field, p, s.radii(p),
-                                                       Eigen::VectorXi::Constant(10, -1), 1);
+  const dcg::DomainGraph g = ring_graph(0.8, 1);
   EXPECT_EQ(g.cycles, 0);
   EXPECT_GT(g.cycles_rejected_visible, 0);
   EXPECT_EQ(g.components, 1);
