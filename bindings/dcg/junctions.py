@@ -9,6 +9,8 @@ straight down and the other runs across the back, over the plane, to its own hip
 bones cannot mirror each other, so they did not pair (no .L / .R names, and the add-on warned
 of them: Q_Frog). The plan moves such a node to where the crossing limb meets the plane:
 both limbs then start on the plane, one over the other's first stretch reflected, and pair.
+A limb of the middle may leave the node as well (Q_Goblin's head, under a noise of 1e-5 of its
+diagonal, from a chest joint 0.26 off the plane with both arms): it then starts there too.
 """
 
 import types
@@ -23,36 +25,41 @@ def onto_plane(skeleton, plane, chains, sides):
     """`skeleton`, or a view of it (the attributes `dcg.bones` reads) in which each junction
     that qualifies (`_crossing`) lies where its crossing limb meets `plane`: that limb's first
     link starts there, the other limb's first link starts there and runs through the old
-    node, and the link arriving at the node ends there, its last points that lie off the
-    plane (farther than symmetry.tolerance) dropped. chains: dcg.bones.limbs(skeleton);
+    node, a limb of the middle that leaves the node too starts there instead, and the link
+    arriving at the node ends there, its last points that lie off the plane (farther than
+    symmetry.tolerance) dropped. chains: dcg.bones.limbs(skeleton);
     sides: (side, pair) per limb, as dcg.bones plans them."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
     degree = np.bincount(links.ravel(), minlength=len(positions))
     near = symmetry.tolerance(positions)
-    moves = [move for node in np.flatnonzero(degree == 3)
+    moves = [move for node in np.flatnonzero(degree >= 3)
              if (move := _crossing(plane, skeleton, chains, sides, int(node), degree, near))]
     if not moves:
         return skeleton
     view = _view(skeleton)
-    for node, crossing, other, arriving in moves:
-        _move(view, plane, node, crossing, other, arriving, near)
+    for node, crossing, other, arriving, middle in moves:
+        _move(view, plane, node, crossing, other, arriving, middle, near)
     return view
 
 
 def _crossing(plane, skeleton, chains, sides, node, degree, near):
-    """(node, crossing limb's first link, other limb's first link, arriving link) when two
-    unpaired limbs leave `node`, off the plane, for ends that mirror each other within `near`,
-    one link arrives at it along the skeleton's tree, and exactly one of the two crosses the
-    plane in its first link; else None."""
+    """(node, crossing limb's first link, other limb's first link, arriving link, first links
+    of the limbs of the middle) when two unpaired limbs leave `node`, off the plane, for ends
+    that mirror each other within `near`, one link arrives at it along the skeleton's tree, and
+    exactly one of the two crosses the plane in its first link; else None. Other limbs may
+    leave it for ends on the plane (Q_Goblin's head, from its chest)."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     side = plane.signed(positions[node])
     if abs(side) <= near:
         return None
     leaving = [limb for limb, (limb_side, _) in zip(chains, sides)
                if limb[0][1] == node and limb_side is None and degree[limb[-1][2]] == 1]
+    off = [abs(plane.signed(positions[limb[-1][2]])) > near for limb in leaving]
+    middle = [limb[0][0] for limb, away in zip(leaving, off) if not away]
+    leaving = [limb for limb, away in zip(leaving, off) if away]
     arriving = [limb[-1][0] for limb in chains if limb[-1][2] == node and limb[-1][3]]
-    if len(leaving) != 2 or len(arriving) != 1:
+    if len(leaving) != 2 or len(arriving) != 1 or degree[node] != 3 + len(middle):
         return None
     ends = positions[[limb[-1][2] for limb in leaving]]
     if np.linalg.norm(plane.reflect(ends[0]) - ends[1]) > near:
@@ -62,7 +69,7 @@ def _crossing(plane, skeleton, chains, sides, node, degree, near):
     if sum(crosses) != 1:
         return None
     crossing, other = (leaving[0], leaving[1]) if crosses[0] else (leaving[1], leaving[0])
-    return node, crossing[0][0], other[0][0], arriving[0]
+    return node, crossing[0][0], other[0][0], arriving[0], middle
 
 
 def _from(skeleton, link, node):
@@ -84,8 +91,10 @@ def _view(skeleton):
         mirror_error=getattr(skeleton, "mirror_error", 1.0))
 
 
-def _move(view, plane, node, crossing, other, arriving, near):
-    """Move `node` of the view onto the plane where link `crossing` meets it (see onto_plane)."""
+def _move(view, plane, node, crossing, other, arriving, middle, near):
+    """Move `node` of the view onto the plane where link `crossing` meets it (see onto_plane);
+    link `other` then starts there and runs through the old node, and the links in `middle`
+    start there instead of at the old node."""
     points, radii = _link(view, crossing, node)
     signed = plane.signed(points)
     i = int(np.flatnonzero(np.sign(signed[1:]) != np.sign(signed[0]))[0])  # segment i, i + 1
@@ -96,6 +105,10 @@ def _move(view, plane, node, crossing, other, arriving, near):
               np.concatenate([[radius], radii[i + 1:]]))
     points, radii = _link(view, other, node)
     _set_link(view, other, node, np.vstack([point, points]), np.concatenate([[radius], radii]))
+    for link in middle:  # from the new point on, the old one left out
+        points, radii = _link(view, link, node)
+        _set_link(view, link, node, np.vstack([point, points[1:]]),
+                  np.concatenate([[radius], radii[1:]]))
     points, radii = _link(view, arriving, node)  # from the node back to where it came from
     on_plane = np.flatnonzero(np.abs(plane.signed(points[1:-1])) <= near)
     first = 1 + int(on_plane[0]) if len(on_plane) else len(points) - 1

@@ -536,16 +536,22 @@ def test_limbs_whose_ends_and_starts_mirror_pair_on_a_shape_that_mirrors_itself(
     assert bones.unpaired_limbs(skeleton) == 0
 
 
-def frog_hips(foot_x=1.0):
+def frog_hips(foot_x=1.0, tail=False):
     """Q_Frog's hind legs: both hang from one joint 0.3 to the right of the mirror plane x = 0,
     the right leg straight down, the left one first across the plane to its own hip; the spine
-    arrives at that joint from a joint on the plane, drifting off it on the way."""
+    arrives at that joint from a joint on the plane, drifting off it on the way. With `tail`,
+    a limb of the middle leaves that joint too, for an end on the plane (node 7)."""
     positions = [[0, 0, 0.5], [0.3, 0, 0], [1, 0, -1], [foot_x, 0, -3], [-1, 0, -1],
                  [-1, 0, -3], [0, 0, 1.5]]
     kinds = ["joint", "joint", "connection", "end", "connection", "end", "end"]
     links = [[0, 1], [1, 2], [2, 3], [1, 4], [4, 5], [0, 6]]
     polylines = [[[0, 0, 0.5], [0.02, 0, 0.3], [0.2, 0, 0.1], [0.3, 0, 0]], None, None,
                  [[0.3, 0, 0], [-0.3, 0, 0], [-1, 0, -1]], None, None]
+    if tail:
+        positions.append([0, 2, -0.5])
+        kinds.append("end")
+        links.append([1, 7])
+        polylines.append(None)
     return skeleton_of(positions, kinds, links, polylines)
 
 
@@ -564,6 +570,18 @@ def test_limbs_from_one_joint_off_the_plane_pair_from_where_one_crosses_it():
     assert all(abs(spec.tail[0]) < 0.03 for spec in spine)  # its drift off the plane dropped
     assert np.allclose(skeleton.positions[1], [0.3, 0, 0])  # the skeleton itself is unchanged
     assert all(np.array_equal(a, b) for a, b in zip(before, skeleton.polylines))
+
+
+def test_limbs_from_one_joint_off_the_plane_pair_though_a_limb_of_the_middle_leaves_it_too():
+    # Q_Goblin under a noise of 1e-5 of its diagonal: both arms and the head leave one chest
+    # joint 0.26 off the plane, and the arms did not pair.
+    plan = limb_plan(frog_hips(tail=True), bone_detail=1.0)
+    names = {spec.name: spec for spec in plan}
+    assert len(mirror_partners(plan)) == 3  # hip, thigh, shin
+    for side in ("L", "R"):
+        assert np.allclose(names[f"leg.001.{side}"].head, [0, 0, 0], atol=0.01)
+    tail = [spec for spec in plan if spec.node == 7]
+    assert len(tail) == 1 and abs(tail[0].head[0]) < 0.01 and abs(tail[0].tail[0]) < 0.01
 
 
 def test_a_joint_off_the_plane_stays_where_its_limbs_ends_do_not_mirror():
