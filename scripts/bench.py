@@ -596,6 +596,18 @@ def write_report(path, meta, rows, args, command):
     path.write_text("\n".join(out) + "\n")
 
 
+def stale_binary(binary: Path):
+    """Why `binary` would measure older code than its build holds, or None: dcg_bench is left
+    out of the default build (`cmake --build build` does not relink it; `make bench` does), so
+    after a change to the engine it runs the library it was linked with, silently."""
+    library = binary.parent / "libdcg.a"
+    if binary.exists() and library.exists() and binary.stat().st_mtime < library.stat().st_mtime:
+        return (f"bench: {binary} is older than {library}: it would measure the engine as it was "
+                f"when it was linked (rebuild it: cmake --build {binary.parent} --target "
+                f"{binary.name}, as make bench does)")
+    return None
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("paths", nargs="*", help="mesh files or folders (default ../shared/meshes)")
@@ -658,6 +670,9 @@ def main():
     command += paths
     load_before = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
     if not args.reuse_results:
+        stale = stale_binary(Path(args.binary))
+        if stale:
+            sys.exit(stale)
         print("bench:", " ".join(command), file=sys.stderr, flush=True)
         try:
             status = subprocess.run(command).returncode  # progress goes straight to the terminal

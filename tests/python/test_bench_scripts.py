@@ -56,6 +56,20 @@ def test_bench_says_when_mcf_made_different_skeletons_in_its_runs():
     assert bench.mcf_spread({}) == ""  # MCF did not run
 
 
+def test_bench_refuses_a_dcg_bench_older_than_its_library(tmp_path):
+    import bench
+
+    binary, library = tmp_path / "dcg_bench", tmp_path / "libdcg.a"
+    binary.write_text("")
+    assert bench.stale_binary(binary) is None  # no library beside it: nothing to compare
+    library.write_text("")
+    os.utime(binary, (1000, 1000))
+    os.utime(library, (2000, 2000))
+    assert "is older than" in bench.stale_binary(binary)  # linked before the engine changed
+    os.utime(binary, (3000, 3000))
+    assert bench.stale_binary(binary) is None
+
+
 def test_rig_quality_sets_each_cd_beside_the_one_before_issue_17(tmp_path):
     import json
 
