@@ -86,29 +86,47 @@ double arc_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Ei
   return on_arc ? on_circle : std::min((p - a).norm(), (p - c).norm());
 }
 
-// Whether none of the segments a[i]-b[i] (xyz triples, one after the other) meets the surface.
+// For each segment a[i]-b[i] (xyz triples, one after the other), whether it meets the surface.
+std::vector<unsigned char> blocked_segments(const SurfaceQuery& query, const std::vector<double>& a,
+                                            const std::vector<double>& b) {
+  const int count = static_cast<int>(a.size() / 3);
+  std::vector<unsigned char> blocked(count);
+  if (count > 0) query.segments_blocked(a.data(), b.data(), count, 0.0, blocked.data());
+  return blocked;
+}
+
+// Whether none of the segments a[i]-b[i] meets the surface.
 bool none_blocked(const SurfaceQuery& query, const std::vector<double>& a,
                   const std::vector<double>& b) {
-  const int count = static_cast<int>(a.size() / 3);
-  if (count == 0) return true;
-  std::vector<unsigned char> blocked(count);
-  query.segments_blocked(a.data(), b.data(), count, 0.0, blocked.data());
+  const std::vector<unsigned char> blocked = blocked_segments(query, a, b);
   return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
 }
 
-// Whether every pair of `pts` sees each other (no segment between two of them meets the surface).
-bool all_see_each_other(const SurfaceQuery& query, const Points& points,
-                        const std::vector<int>& pts) {
+// Each pair of `pts` once (into `pairs`), and whether the segment between the two meets the
+// surface.
+std::vector<unsigned char> blocked_pairs(const SurfaceQuery& query, const Points& points,
+                                         const std::vector<int>& pts,
+                                         std::vector<std::pair<int, int>>& pairs) {
   std::vector<double> a, b;
+  pairs.clear();
   for (std::size_t i = 0; i < pts.size(); ++i) {
     for (std::size_t j = i + 1; j < pts.size(); ++j) {
+      pairs.emplace_back(pts[i], pts[j]);
       for (int k = 0; k < 3; ++k) {
         a.push_back(points(pts[i], k));
         b.push_back(points(pts[j], k));
       }
     }
   }
-  return none_blocked(query, a, b);
+  return blocked_segments(query, a, b);
+}
+
+// Whether every pair of `pts` sees each other (no segment between two of them meets the surface).
+bool all_see_each_other(const SurfaceQuery& query, const Points& points,
+                        const std::vector<int>& pts) {
+  std::vector<std::pair<int, int>> pairs;
+  const std::vector<unsigned char> blocked = blocked_pairs(query, points, pts, pairs);
+  return std::none_of(blocked.begin(), blocked.end(), [](unsigned char x) { return x != 0; });
 }
 
 // How long the segment a-b runs outside the shape, a inside: the stretches from where it
@@ -143,19 +161,7 @@ double outside_length(const SurfaceQuery& query, const Eigen::Vector3d& a,
 bool see_each_other_across_cracks(const SurfaceQuery& query, const Points& points,
                                   const Eigen::VectorXd& radii, const std::vector<int>& pts) {
   std::vector<std::pair<int, int>> pairs;
-  std::vector<double> a, b;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    for (std::size_t j = i + 1; j < pts.size(); ++j) {
-      pairs.emplace_back(pts[i], pts[j]);
-      for (int k = 0; k < 3; ++k) {
-        a.push_back(points(pts[i], k));
-        b.push_back(points(pts[j], k));
-      }
-    }
-  }
-  std::vector<unsigned char> blocked(pairs.size());
-  if (!pairs.empty())
-    query.segments_blocked(a.data(), b.data(), static_cast<int>(pairs.size()), 0.0, blocked.data());
+  const std::vector<unsigned char> blocked = blocked_pairs(query, points, pts, pairs);
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto [p, q] = pairs[k];
     if (blocked[k] && outside_length(query, points.row(p).transpose(), points.row(q).transpose()) >
