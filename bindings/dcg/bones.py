@@ -716,16 +716,17 @@ def _symmetry(skeleton, chains, polylines, up=UP):
     and starts mirror each other, symmetry.pair_by_ends); no plane and no pairs across a
     plane that `mirrors_top_to_bottom`."""
     plane = symmetry.skeleton_plane(skeleton)
-    sides = symmetry.pair_limbs(plane, skeleton, [polyline[0] for polyline in polylines],
-                                [limb[-1][2] for limb in chains])
+    ends = [limb[-1][2] for limb in chains]
+    sides = symmetry.pair_limbs(plane, skeleton, [polyline[0] for polyline in polylines], ends)
     if plane is not None:
         shape = symmetry.shape_plane(skeleton)
         agreement = 0.0 if shape is None else float(shape.normal @ plane.normal)
         if abs(agreement) >= symmetry.FITTED_AGREEMENT:  # the surface's own: exact
             plane = shape if agreement > 0 else symmetry.Plane(-shape.normal, -shape.offset,
                                                                shape.error)
+            sides = symmetry.more_pairs(sides, symmetry.pair_limbs(
+                plane, skeleton, [polyline[0] for polyline in polylines], ends))
             if symmetry.copy_plane(skeleton) is not None:
-                ends = [limb[-1][2] for limb in chains]
                 sides = symmetry.pair_by_ends(plane, skeleton, [limb[0][1] for limb in chains],
                                               ends, _degrees(skeleton)[ends] == 1, sides)
         else:

@@ -11,6 +11,9 @@ of them: Q_Frog). The plan moves such a node to where the crossing limb meets th
 both limbs then start on the plane, one over the other's first stretch reflected, and pair.
 A limb of the middle may leave the node as well (Q_Goblin's head, under a noise of 1e-5 of its
 diagonal, from a chest joint 0.26 off the plane with both arms): it then starts there too.
+The crossing limb may cross in a later link than its first (Q_Frog under another such noise:
+its hips' joint 0.7 off the plane, the leg's first link up to a connection node of the back,
+the second across): the links before the crossing then shrink to the new point.
 """
 
 import types
@@ -23,8 +26,9 @@ from .skeleton import measured_polyline_radii
 
 def onto_plane(skeleton, plane, chains, sides):
     """`skeleton`, or a view of it (the attributes `dcg.bones` reads) in which each junction
-    that qualifies (`_crossing`) lies where its crossing limb meets `plane`: that limb's first
-    link starts there, the other limb's first link starts there and runs through the old
+    that qualifies (`_crossing`) lies where its crossing limb meets `plane`: that limb's link
+    that crosses starts there (the links before it, if any, shrink to that point, their nodes
+    with them), the other limb's first link starts there and runs through the old
     node, a limb of the middle that leaves the node too starts there instead, and the link
     arriving at the node ends there, its last points that lie off the plane (farther than
     symmetry.tolerance) dropped. chains: dcg.bones.limbs(skeleton);
@@ -44,11 +48,12 @@ def onto_plane(skeleton, plane, chains, sides):
 
 
 def _crossing(plane, skeleton, chains, sides, node, degree, near):
-    """(node, crossing limb's first link, other limb's first link, arriving link, first links
-    of the limbs of the middle) when two unpaired limbs leave `node`, off the plane, for ends
-    that mirror each other within `near`, one link arrives at it along the skeleton's tree, and
-    exactly one of the two crosses the plane in its first link; else None. Other limbs may
-    leave it for ends on the plane (Q_Goblin's head, from its chest)."""
+    """(node, the crossing limb's links up to the one that crosses as (link, its first node),
+    the other limb's first link, the arriving link, the first links of the limbs of the middle)
+    when two unpaired limbs leave `node`, off the plane, for ends that mirror each other within
+    `near`, one link arrives at it along the skeleton's tree, and exactly one of the two
+    crosses the plane; else None. Other limbs may leave it for ends on the plane (Q_Goblin's
+    head, from its chest)."""
     positions = np.asarray(skeleton.positions, dtype=float).reshape(-1, 3)
     side = plane.signed(positions[node])
     if abs(side) <= near:
@@ -64,12 +69,22 @@ def _crossing(plane, skeleton, chains, sides, node, degree, near):
     ends = positions[[limb[-1][2] for limb in leaving]]
     if np.linalg.norm(plane.reflect(ends[0]) - ends[1]) > near:
         return None
-    crosses = [bool((np.sign(plane.signed(_from(skeleton, limb[0][0], node))) != np.sign(side))
-                    .any()) for limb in leaving]
-    if sum(crosses) != 1:
+    crosses = [_crosses_at(plane, skeleton, limb, side) for limb in leaving]
+    if sum(at is not None for at in crosses) != 1:
         return None
-    crossing, other = (leaving[0], leaving[1]) if crosses[0] else (leaving[1], leaving[0])
-    return node, crossing[0][0], other[0][0], arriving[0], middle
+    first = 0 if crosses[0] is not None else 1
+    crossing, other, at = leaving[first], leaving[1 - first], crosses[first]
+    steps = [(link, start) for link, start, _, _ in crossing[:at + 1]]
+    return node, steps, other[0][0], arriving[0], middle
+
+
+def _crosses_at(plane, skeleton, limb, side):
+    """The index in `limb` of its first link that reaches the other side of the plane than
+    `side` (the signed distance of the limb's first node), None when none does."""
+    for index, (link, start, _, _) in enumerate(limb):
+        if (np.sign(plane.signed(_from(skeleton, link, start))) != np.sign(side)).any():
+            return index
+    return None
 
 
 def _from(skeleton, link, node):
@@ -92,17 +107,25 @@ def _view(skeleton):
 
 
 def _move(view, plane, node, crossing, other, arriving, middle, near):
-    """Move `node` of the view onto the plane where link `crossing` meets it (see onto_plane);
-    link `other` then starts there and runs through the old node, and the links in `middle`
-    start there instead of at the old node."""
-    points, radii = _link(view, crossing, node)
+    """Move `node` of the view onto the plane where the last of the `crossing` links meets it
+    (see onto_plane); the links before it shrink to that point, their nodes with them; link
+    `other` then starts there and runs through the old node, and the links in `middle` start
+    there instead of at the old node."""
+    link, start = crossing[-1]
+    points, radii = _link(view, link, start)
     signed = plane.signed(points)
-    i = int(np.flatnonzero(np.sign(signed[1:]) != np.sign(signed[0]))[0])  # segment i, i + 1
+    i = int(np.flatnonzero(np.sign(signed[1:]) != np.sign(plane.signed(view.positions[node])))
+            [0])  # the segment i, i + 1
     t = signed[i] / (signed[i] - signed[i + 1])
     point = points[i] + t * (points[i + 1] - points[i])
     radius = radii[i] + t * (radii[i + 1] - radii[i])
-    _set_link(view, crossing, node, np.vstack([point, points[i + 1:]]),
+    _set_link(view, link, start, np.vstack([point, points[i + 1:]]),
               np.concatenate([[radius], radii[i + 1:]]))
+    for link, start in crossing[:-1]:  # the stretch on the node's side: now a point
+        _set_link(view, link, start, np.vstack([point, point]), np.array([radius, radius]))
+        stop = int(view.links[link][1] if int(view.links[link][0]) == start else
+                   view.links[link][0])
+        view.positions[stop], view.radii[stop] = point, radius
     points, radii = _link(view, other, node)
     _set_link(view, other, node, np.vstack([point, points]), np.concatenate([[radius], radii]))
     for link in middle:  # from the new point on, the old one left out

@@ -201,6 +201,20 @@ def pair_limbs(plane, skeleton, limb_points, limb_ends=None):
     return result
 
 
+def more_pairs(sides, other):
+    """`sides` (pair_limbs') with the pairs of `other` (the same limbs paired across another
+    plane) whose two limbs `sides` left unpaired, numbered after its own."""
+    result = list(sides)
+    number = max([pair for _, pair in sides] + [-1]) + 1
+    for pair in sorted({pair for _, pair in other if pair >= 0}):
+        limbs = [k for k, (_, p) in enumerate(other) if p == pair]
+        if all(result[k][0] is None for k in limbs):
+            for k in limbs:
+                result[k] = (other[k][0], number)
+            number += 1
+    return result
+
+
 def pair_by_ends(plane, skeleton, limb_starts, limb_ends, tips, sides):
     """`sides` (pair_limbs') with more pairs on a shape that mirrors itself: two limbs that did
     not pair, end at end nodes of one kind off the plane that mirror each other and start at one

@@ -536,11 +536,13 @@ def test_limbs_whose_ends_and_starts_mirror_pair_on_a_shape_that_mirrors_itself(
     assert bones.unpaired_limbs(skeleton) == 0
 
 
-def frog_hips(foot_x=1.0, tail=False):
+def frog_hips(foot_x=1.0, tail=False, via=False):
     """Q_Frog's hind legs: both hang from one joint 0.3 to the right of the mirror plane x = 0,
     the right leg straight down, the left one first across the plane to its own hip; the spine
     arrives at that joint from a joint on the plane, drifting off it on the way. With `tail`,
-    a limb of the middle leaves that joint too, for an end on the plane (node 7)."""
+    a limb of the middle leaves that joint too, for an end on the plane (node 7). With `via`,
+    the left leg's first link ends at a connection node still right of the plane (node 7, or
+    8 with `tail`) and its second crosses."""
     positions = [[0, 0, 0.5], [0.3, 0, 0], [1, 0, -1], [foot_x, 0, -3], [-1, 0, -1],
                  [-1, 0, -3], [0, 0, 1.5]]
     kinds = ["joint", "joint", "connection", "end", "connection", "end", "end"]
@@ -551,6 +553,13 @@ def frog_hips(foot_x=1.0, tail=False):
         positions.append([0, 2, -0.5])
         kinds.append("end")
         links.append([1, 7])
+        polylines.append(None)
+    if via:  # 1 -> (0.15, 0, 0) -> across
+        positions.append([0.15, 0, 0])
+        kinds.append("connection")
+        links[3] = [len(positions) - 1, 4]
+        polylines[3] = [[0.15, 0, 0], [-0.3, 0, 0], [-1, 0, -1]]
+        links.append([1, len(positions) - 1])
         polylines.append(None)
     return skeleton_of(positions, kinds, links, polylines)
 
@@ -582,6 +591,24 @@ def test_limbs_from_one_joint_off_the_plane_pair_though_a_limb_of_the_middle_lea
         assert np.allclose(names[f"leg.001.{side}"].head, [0, 0, 0], atol=0.01)
     tail = [spec for spec in plan if spec.node == 7]
     assert len(tail) == 1 and abs(tail[0].head[0]) < 0.01 and abs(tail[0].tail[0]) < 0.01
+
+
+def test_limbs_from_one_joint_off_the_plane_pair_when_one_crosses_it_in_a_later_link():
+    # Q_Frog under a noise of 1e-5 of its diagonal (numpy draw 2): its hips' joint lies 0.7
+    # off the plane, one leg's first link runs up to a connection node of the back on the
+    # joint's side and its second across, and the legs did not pair.
+    for tail in (False, True):
+        skeleton = frog_hips(tail=tail, via=True)
+        plan = limb_plan(skeleton, bone_detail=1.0)
+        names = {spec.name: spec for spec in plan}
+        assert len(mirror_partners(plan)) == 3  # hip, thigh, shin
+        head = names["leg.001.L"].head  # both legs start where the left one crossed the plane
+        assert np.allclose(names["leg.001.R"].head, head, atol=1e-9)
+        assert abs(bones.plan_plane(skeleton).signed(head)) < 1e-9
+        assert np.allclose(head, [0, 0, 0], atol=0.02)
+        assert np.allclose(names["leg.001.L"].tail, [0.3, 0, 0], atol=0.01)  # the old joint
+        assert all(np.linalg.norm(spec.tail - spec.head) > 0.1 for spec in plan)
+    assert bones.unpaired_limbs(frog_hips(via=True)) == 0
 
 
 def test_a_joint_off_the_plane_stays_where_its_limbs_ends_do_not_mirror():

@@ -72,6 +72,25 @@ def test_a_tiny_noise_leaves_mannequinys_skeleton_whole(meshes_dir, draw):
     assert bones.unpaired_limbs(skeleton, np.array([0.0, 0.0, 1.0])) == 0
 
 
+@pytest.mark.parametrize("name, draw", [("rigged/Q_Frog.obj", 2), ("knight.off", 3)])
+def test_a_tiny_noise_leaves_mirror_image_limbs_paired(meshes_dir, name, draw):
+    # 1e-5 of the diagonal of noise, as above; both pairs did not pair, and the add-on warned:
+    # Q_Frog's hips' joint came 0.7 off the plane with the crossing leg's first link still on
+    # its side (dcg.junctions takes the first link that crosses); knight.off's arms mirror
+    # each other across the surface's own plane (their centres 5.0% of the skeleton's size
+    # apart, pairing allows 6%) but not across the plane fitted to its nodes (6.5%: its legs
+    # are a little asymmetric), and only that plane paired limbs (symmetry.more_pairs).
+    from dcg import bones
+
+    V, F = dcg.load_mesh(meshes_dir / name)
+    diagonal = np.linalg.norm(np.ptp(V, axis=0))
+    V = V + np.random.default_rng(draw).normal(size=V.shape) * 1e-5 * diagonal
+    skeleton = dcg.extract_skeleton(V, F)
+    assert bones.unpaired_limbs(skeleton, np.array([0.0, 0.0, 1.0])) == 0
+    plan = bones.plan_bones(skeleton)
+    assert sum(spec.name.endswith(".L") for spec in plan) >= 8  # 2 pairs of limbs, 4 bones+
+
+
 def test_union_of_parts_is_the_same_in_every_call(meshes_dir):
     # Q_Spider is 15 closed parts (legs pushed into the body), which stage 0 unites. CGAL's
     # corefinement returned the union's faces in an order that changed from call to call (its
