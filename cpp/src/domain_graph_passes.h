@@ -115,7 +115,8 @@ void bridge_outside_links(GraphWork& w, int cost_samples);
 /// can be); only points that own a face come alive.
 void spanning_tree(GraphWork& w);
 /// Adds non-tree links, cheapest first, whose cycle goes around a handle and duplicates no kept
-/// cycle, at most `genus` of them.
+/// cycle, at most `genus` of them; after the links inside, those that only graze the surface
+/// (kGraze in domain_graph.cpp).
 void keep_handle_cycles(GraphWork& w, int genus);
 /// Prunes non-end leaves repeatedly, or, with at most one end and no cycle, keeps the longest
 /// tree path (a spine for a sphere-like shape).
