@@ -532,8 +532,9 @@ double ProngHierarchy::off_halfway(int a, int b, int v) const {
 
 bool ProngHierarchy::is_mirror_twin(const Peak& twin, const Peak& partner) const {
   if (std::abs(twin.value - partner.value) > kTwinValue * partner.value) return false;
-  const double length = edge_geodesics(mesh_, twin.vertex)[twin.valley_vertex];
-  if (length < kTwinLength * f_.mean()) return false;
+  for (int peak : {twin.vertex, partner.vertex}) {  // both limbs, the crotch off the plane
+    if (edge_geodesics(mesh_, peak)[twin.valley_vertex] < kTwinLength * f_.mean()) return false;
+  }
   return mirrors_mesh(twin.vertex, partner.vertex);
 }
 
