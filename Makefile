@@ -84,6 +84,7 @@ addon: build
 # scales 0.01 and 100 in weights-scaled.md); on the artist-rigged characters of RIGGED, our
 # skeleton's chamfer distances to the artists' (out/bench/rig-quality.md) and our weights and
 # bone heat against the artists' weights on their skeletons (out/bench/weights-quality.md);
+# which skeletons a noise of 1e-5 of the diagonal changes (out/bench/noise.md);
 # last, `make bench-compare`. Not part of `make test`.
 MESHES ?= ../shared/meshes
 RIGGED ?= $(DCG_MESHES)/rigged
@@ -106,6 +107,8 @@ bench: build
 	  --out $(OUT)/bench/weights-scaled.md --scale 0.01 --scale 100 data/spot.obj
 	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_rig_quality.py --rigged $(RIGGED) \
 	  --out $(OUT)/bench/rig-quality.md
+	PYTHONPATH=$(BUILD)/python $(PYTHON) scripts/bench_noise.py --public $(DCG_MESHES) \
+	  --rigged $(RIGGED) --out $(OUT)/bench/noise.md
 	$(BLENDER) -b --factory-startup --python-exit-code 1 --python scripts/bench_weights_quality.py \
 	  -- --pythonpath $(BUILD)/python --rigged $(RIGGED) --out $(OUT)/bench/weights-quality.md
 	$(PYTHON) scripts/bench_compare.py $(OUT)/bench/summary.json

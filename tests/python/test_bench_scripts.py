@@ -12,7 +12,8 @@ import pytest
 import dcg
 
 SCRIPTS = ["bench.py", "bench_batch.py", "bench_big.py", "bench_compare.py",
-           "bench_retune.py", "bench_rig_quality.py", "make_stress_set.py", "make_big_mesh.py"]
+           "bench_retune.py", "bench_rig_quality.py", "bench_noise.py", "make_stress_set.py",
+           "make_big_mesh.py"]
 
 
 @pytest.mark.parametrize("script", SCRIPTS)
@@ -42,6 +43,28 @@ def test_bench_retune_times_each_tau_and_checks_the_limits(repo, tmp_path):
     assert "met" in bench_retune.verdicts("hand.obj", 9556, 0.001, 0.1)
     assert "missed" in bench_retune.verdicts("horse.ply", 96966, 0.06, 0.1)
     assert bench_retune.verdicts("spot.obj", 5856, 1.0, 1.0) == "-"
+
+
+def test_bench_noise_counts_what_a_tiny_noise_changes(repo, meshes_dir):
+    import bench_noise
+
+    row = bench_noise.measure(repo / "data" / "spot.obj", 2, 1e-5)
+    assert [row[key] for key in ("ends", "components", "cycles", "unpaired")] == [6, 1, 0, 0]
+    assert row["kept"] == "2 of 2" and row["others"] == "-"
+    base = {"ends": 6, "joints": 1, "components": 1, "cycles": 0, "unpaired": 0}
+    assert bench_noise.differs(base, dict(base, joints=2)) == []  # joints are not compared
+    assert bench_noise.differs(base, dict(base, ends=5, unpaired=2)) == ["ends", "unpaired"]
+    V = np.random.default_rng(0).random((1000, 3))
+    moved = bench_noise.noisy(V, 1, 1e-3) - V
+    assert np.allclose(bench_noise.noisy(V, 1, 1e-3) - V, moved)  # a draw is a draw
+    assert 0.5e-3 < moved.std() / np.linalg.norm(np.ptp(V, axis=0)) < 2e-3
+    text = "\n".join(bench_noise.report([row], 2, 1e-5))
+    assert "Kept: 2 of 2 draws; 1 of 1 meshes in every draw." in text
+    assert "| spot.obj | 6 |" in text
+    meshes = bench_noise.default_meshes(meshes_dir, meshes_dir / "rigged")
+    names = {path.name for path in meshes}
+    assert {"spot.obj", "kitten.off", "Q_Goblin.obj"} <= names  # closed ones, and the rigged
+    assert "wolf-open.obj" not in names  # open: MANIFEST's closed column says no
 
 
 def test_bench_says_when_mcf_made_different_skeletons_in_its_runs():
