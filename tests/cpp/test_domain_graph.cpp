@@ -321,6 +321,41 @@ TEST(DomainGraph, ABumpOnABentTubeMergesIntoItsJunction) {
   EXPECT_EQ(w.g.ends_absorbed, 1);
 }
 
+TEST(DomainGraph, AnEndInsideTheNextStretchOfTheBodyIsABump) {
+  // The ring and bulge above, the bulge turned to 67.5 degrees, between ring points 1 and 2,
+  // its end point e 1.85 from the axis, inside the ring's tube, and linked to v = 0 (as the
+  // spanning tree linked an end ball on the eight's rim to a point of the loop one step down
+  // from it, under a noise of 1e-5 of the diagonal). Neither the tubes of v's links nor the
+  // bent tube 7 -> 0 -> 1 hold it (its ball reaches 1.1 from the arc's end, point 1); the
+  // straight tube of the next stretch, 1 -> 2 (radius 0.5), holds its centre (0.46 off it).
+  const int v = 0, e = 8;
+  const double angle = 3 * M_PI / 8;
+  const Eigen::Vector3d bulge(2.08 * std::cos(angle), 2.08 * std::sin(angle), 0);
+  std::vector<Eigen::Vector3d> p;
+  for (int i = 0; i < 8; ++i)
+    p.emplace_back(1.5 * std::cos(M_PI * i / 4), 1.5 * std::sin(M_PI * i / 4), 0);
+  p.emplace_back(1.85 * std::cos(angle), 1.85 * std::sin(angle), 0);
+  const Placed s(test::marching_tetrahedra(
+                     [&](const Eigen::Vector3d& q) {
+                       const double ring = std::hypot(std::hypot(q.x(), q.y()) - 1.5, q.z()) - 0.5;
+                       return std::min(ring, (q - bulge).norm() - 0.17);
+                     },
+                     -2.4, 2.4, 96),
+                 p, {e});
+  dcg::internal::GraphWork w = s.pruned(1);
+  ASSERT_EQ(w.kept_cycles.size(), 1u);
+  ASSERT_EQ(w.graph.degree(e), 1);
+  w.graph.unlink(e, *w.graph.adj[e].begin());
+  w.graph.link(e, v);
+  ASSERT_EQ(w.graph.adj[v], (Neighbours{1, 7, e}));
+  ASSERT_EQ(w.graph.adj[1], (Neighbours{0, 2}));
+
+  dcg::internal::absorb_bumps(w);
+  EXPECT_FALSE(w.graph.alive[e]);
+  EXPECT_EQ(w.graph.absorbed_by[e], v);
+  EXPECT_EQ(w.g.ends_absorbed, 1);
+}
+
 TEST(DomainGraph, TwoEndsAreNeverContracted) {
   // A capsule along z holding the chain C - c0 - B - A of one connection point and three end
   // points, A (near the top tip, radius ~0.2) 0.35 from B (radius 0.5): a short link. A comes
