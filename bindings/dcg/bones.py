@@ -712,9 +712,10 @@ def mirrors_top_to_bottom(plane, skeleton, up=UP):
 def _symmetry(skeleton, chains, polylines, up=UP):
     """(plane, sides): the plan's mirror plane (see plan_plane) and the (side, pair) of each
     limb (symmetry.pair_limbs across the skeleton's plane; limbs pair when they end at nodes
-    of one kind; on a surface that mirrors itself within COPY_TOLERANCE also limbs whose ends
-    and starts mirror each other, symmetry.pair_by_ends); no plane and no pairs across a
-    plane that `mirrors_top_to_bottom`."""
+    of one kind; where the plane is the surface's own, also limbs that pair across that one,
+    symmetry.more_pairs; on a surface that mirrors itself within COPY_TOLERANCE also limbs
+    whose ends and starts mirror each other, symmetry.pair_by_ends); no plane and no pairs
+    across a plane that `mirrors_top_to_bottom`."""
     plane = symmetry.skeleton_plane(skeleton)
     ends = [limb[-1][2] for limb in chains]
     sides = symmetry.pair_limbs(plane, skeleton, [polyline[0] for polyline in polylines], ends)
