@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+import mesh_parts
 import quality_tables
 
 COMPARED = ("ends", "components", "cycles", "unpaired")
@@ -54,17 +55,7 @@ def counts(skeleton, up) -> dict:
     kinds = np.asarray(skeleton.kinds)
     links = np.asarray(skeleton.links, dtype=np.int64).reshape(-1, 2)
     nodes = len(kinds)
-    parent = list(range(nodes))
-
-    def root(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    for a, b in links:
-        parent[root(int(a))] = root(int(b))
-    components = len({root(i) for i in range(nodes)})
+    components = len(np.unique(mesh_parts.connected_components(nodes, links)))
     return {"ends": int((kinds == "end").sum()), "joints": int((kinds == "joint").sum()),
             "components": components, "cycles": len(links) - nodes + components,
             "unpaired": int(bones.unpaired_limbs(skeleton, up))}

@@ -416,6 +416,12 @@ bool share_a_neighbour(const Graph& graph, int a, int b) {
   return false;
 }
 
+// The neighbour of `node`, a point of degree 2, other than `from`.
+int other_neighbour(const Graph& graph, int node, int from) {
+  const auto first = graph.adj[node].begin();
+  return *first == from ? *std::next(first) : *first;
+}
+
 // Whether the end point e, a leaf on the junction v, is a bump on the body at v: inside the tube
 // of another link of v (within the smaller radius of its nodes), or with its ball reaching out
 // of the bent tube through v and two other neighbours by less than kBumpReach of that tube.
@@ -449,8 +455,7 @@ bool is_bump(const GraphWork& w, int e, int v) {
     // loop one step down from it: a stray end in 2 of 29 draws). Only the straight tube there:
     // its bent tube held kitten's ears too, which end past a point of the head.
     if (w.graph.degree(a) != 2) continue;
-    const int b =
-        *w.graph.adj[a].begin() == v ? *std::next(w.graph.adj[a].begin()) : *w.graph.adj[a].begin();
+    const int b = other_neighbour(w.graph, a, v);
     if (point_segment_distance(pe, pa, points.row(b).transpose()) < std::min(radii[a], radii[b]))
       return true;
   }
@@ -464,8 +469,7 @@ int walk_chain(const Graph& graph, int a, int first, std::vector<int>& chain) {
   int prev = a, cur = first;
   while (graph.degree(cur) == 2 && cur != a) {
     chain.push_back(cur);
-    const int next = *graph.adj[cur].begin() == prev ? *std::next(graph.adj[cur].begin())
-                                                     : *graph.adj[cur].begin();
+    const int next = other_neighbour(graph, cur, prev);
     prev = cur;
     cur = next;
   }
@@ -854,16 +858,15 @@ void keep_handle_cycles(GraphWork& w, int genus) {
   DomainGraph& g = w.g;
   if (genus <= 0) return;
   const TreePaths paths(w);
-  std::vector<int> non_tree;  // the finite links by cost, then those that graze (kGraze)
-  for (int l : w.tree_order) {
-    if (g.candidate_state[l] != 0) continue;
-    if (std::isfinite(g.costs[l])) {
-      non_tree.push_back(l);
-      continue;
-    }
+  // A link that leaves the shape by at most kGraze of its points' smaller radius.
+  const auto grazes = [&](int l) {
     const int a = g.candidates(l, 0), b = g.candidates(l, 1);
-    if (outside_length(w.query, g.points.row(a).transpose(), g.points.row(b).transpose()) <=
-        kGraze * std::min(g.radii[a], g.radii[b]))
+    return outside_length(w.query, g.points.row(a).transpose(), g.points.row(b).transpose()) <=
+           kGraze * std::min(g.radii[a], g.radii[b]);
+  };
+  std::vector<int> non_tree;  // the finite links by cost, then those that graze (infinite cost)
+  for (int l : w.tree_order) {
+    if (g.candidate_state[l] == 0 && (std::isfinite(g.costs[l]) || grazes(l)))
       non_tree.push_back(l);
   }
   std::stable_sort(non_tree.begin(), non_tree.end(),
