@@ -92,6 +92,8 @@ void bind_prepared(py::module_& m) {
       .field("fin_faces", &R::fin_faces)
       .field("filled_holes", &R::filled_holes)
       .field("cavities", &R::cavities)
+      .field("wrapped_parts", &R::wrapped_parts)
+      .field("part_wrap_alpha", &R::part_wrap_alpha)
       .def_property_readonly("closed_manifold", &R::closed_manifold);
 
   using P = dcg::PreparedMesh;

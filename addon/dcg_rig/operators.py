@@ -223,13 +223,16 @@ def _run_extractor(engine):
 
 def _report_repair(operator, extractor):
     """Tell the user what stage 0 did to a mesh that is not one closed manifold: a warning when
-    the skeleton is of a proxy (the alpha wrap) or faces were left out (fins), else for
-    information (the union of closed parts keeps the mesh's own surface)."""
+    the skeleton is of a proxy (the alpha wrap, of the whole or of a part that crossed itself)
+    or faces were left out (fins), else for information (the union of closed parts keeps the
+    mesh's own surface)."""
     prepared = extractor.prepare()
     summary = _engine.require().repair_summary(prepared)
     if summary is None:
         return
-    proxy = prepared.wrap_alpha > 0 or prepared.report.get("fin_faces", 0) > 0
+    report = prepared.report
+    proxy = prepared.wrap_alpha > 0 or report.get("fin_faces", 0) > 0 or \
+        report.get("wrapped_parts", 0) > 0
     operator.report({"WARNING" if proxy else "INFO"}, f"DCG: {summary}")
 
 

@@ -134,7 +134,8 @@ def repair_summary(prepared) -> Optional[str]:
     (the add-on's report, the CLI), or None when the mesh was used as it is.
 
     prepared: a dcg.PreparedMesh (Extractor.prepare()). The union of closed parts keeps the
-    input's own surface; fins left out and the alpha wrap (a closed proxy) are said so.
+    input's own surface; fins left out, parts that crossed themselves wrapped alone and the alpha
+    wrap of the whole (a closed proxy) are said so.
     """
     if not prepared.repaired:
         return None
@@ -156,8 +157,13 @@ def repair_summary(prepared) -> Optional[str]:
         return (f"{found}: skeleton of its alpha wrap, a closed proxy that smooths over "
                 f"details below {prepared.wrap_alpha:.1%} of the bounding-box diagonal")
     fins, holes = r.get("fin_faces", 0), r.get("filled_holes", 0)
-    cavities = r.get("cavities", 0)
+    cavities, rewrapped = r.get("cavities", 0), r.get("wrapped_parts", 0)
     done = ""
+    if rewrapped:
+        one = rewrapped == 1
+        done += (f", {_count(rewrapped, 'part')} that crossed {'itself' if one else 'themselves'}"
+                 f" replaced by {'its' if one else 'their'} alpha wrap (details below "
+                 f"{r.get('part_wrap_alpha', 0):.1%} of the diagonal smoothed)")
     if fins:
         done += f", leaving out {fins} faces of zero-volume fins or inner walls"
     if holes:

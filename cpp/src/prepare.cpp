@@ -28,15 +28,18 @@
 //   It costs 10-90 ms on the multi-part game characters and pinched meshes where the wrap below
 //   took 2-4 s. A pinched mesh of one part is only split. Non-manifold edges where zero-volume
 //   fins or inner walls hang on closed parts (fins.h: Q_Wasp's one-quad wings, Q_Frog's discs
-//   under its warts) lose those sheets and are united the same way. Anything else (an open
-//   part, one to be united that crosses itself, other non-manifold edges, a union that fails) is
-//   wrapped, which gives the same kind of result (the union, disjoint parts as shells). Before
-//   that, a mesh whose holes are all small (bounding box at most 1/10 of the diagonal, at most
-//   256 edges: an eye socket, a neck opening, a cut at a scan's base) gets them triangulated
-//   and is united the same way: a wrap sized to such a hole smoothed over 4-7% of the diagonal
-//   (Mannequiny), fingers and thin limbs with it. When that union fails (parts that cross, as
-//   Q_Male_Casual's and wolf-open's), the filled mesh is wrapped instead, at kFilledWrapAlpha:
-//   its holes are closed, so the wrap need not be sized to them.
+//   under its warts) lose those sheets and are united the same way. A part to be united that
+//   crosses itself (where its faces nearly touch, a tiny noise or a float32 rounding makes them
+//   cross) is replaced by its own alpha wrap first, at the size the whole would be wrapped at
+//   (report.wrapped_parts). Anything else (an open part, other non-manifold edges, a union that
+//   fails) is wrapped whole, which gives the same kind of result (the union, disjoint parts as
+//   shells) with every part's details smoothed. Before that, a mesh whose holes are all small
+//   (bounding box at most 1/10 of the diagonal, at most 256 edges: an eye socket, a neck
+//   opening, a cut at a scan's base) gets them triangulated and is united the same way: a wrap
+//   sized to such a hole smoothed over 4-7% of the diagonal (Mannequiny), fingers and thin limbs
+//   with it. Its parts that cross themselves (Q_Male_Casual's body, wolf-open's 3 parts) are
+//   wrapped at kFilledWrapAlpha; when the union fails, the filled mesh is wrapped whole, at
+//   kFilledWrapAlpha: its holes are closed, so the wrap need not be sized to them.
 // - Wrap size: alpha = 1/100 of the diagonal (keeps fingers and thin limbs apart), raised to
 //   0.6 x the diagonal of the largest hole (border loop) so the wrapping ball cannot enter the
 //   hole and wrap both sides of an open sheet (a hollow shell has a useless medial axis), capped
@@ -333,32 +336,42 @@ void wrap(const Mesh& mesh, double alpha, ThrottledProgress& poll, PreparedMesh&
   out.wrap_alpha = alpha;
 }
 
-// out.working = the union of the closed parts of `mesh` (union.h); false when they are not all
-// closed solids or the union fails.
-bool unite_closed_parts(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
+// out.working = the union of the closed parts of `mesh` (union.h), a part that crosses itself
+// replaced by its alpha wrap at `alpha` (the size the caller would wrap all of `mesh` at, were
+// the union to fail: a tiny noise, or a float32 rounding, makes a part cross itself where faces
+// nearly touch, and the whole wrap smoothed every part's details away for it); false when they
+// are not all closed solids or the union fails.
+bool unite_closed_parts(const Mesh& mesh, double alpha, ThrottledProgress& poll,
+                        PreparedMesh& out) {
+  const internal::PartWrap rewrap = [&](const Mesh& part) {
+    return internal::alpha_wrap(part, alpha, alpha / 30.0, poll.part(0.1, 0.3));
+  };
   std::optional<internal::United> united =
-      internal::union_of_closed_parts(mesh, poll.part(0.1, 0.3));
+      internal::union_of_closed_parts(mesh, poll.part(0.1, 0.3), rewrap);
   if (!united) return false;
   out.working = std::move(united->mesh);
   out.report.cavities = united->cavities;
+  out.report.wrapped_parts = united->rewrapped;
+  out.report.part_wrap_alpha = united->rewrapped > 0 ? alpha : 0.0;
   out.repaired = true;
   return true;
 }
 
 // unite_closed_parts of a mesh that a repair step made, once it has checked that every edge has
 // two faces and oriented it (in place).
-bool orient_and_unite(Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
+bool orient_and_unite(Mesh& mesh, double alpha, ThrottledProgress& poll, PreparedMesh& out) {
   const internal::Topology topo = internal::analyze_topology(mesh.V, mesh.F);
   if (topo.border_edges != 0 || topo.non_manifold_edges != 0) return false;
   if (!internal::orient_outward(mesh.V, mesh.F, topo).orientable) return false;
-  return unite_closed_parts(mesh, poll, out);
+  return unite_closed_parts(mesh, alpha, poll, out);
 }
 
 // The union of what is left of `mesh` without its fins and inner walls (fins.h), when that is
 // closed parts that orient consistently; out.report.fin_faces counts the faces left out.
-bool unite_without_fins(const Mesh& mesh, ThrottledProgress& poll, PreparedMesh& out) {
+bool unite_without_fins(const Mesh& mesh, double alpha, ThrottledProgress& poll,
+                        PreparedMesh& out) {
   std::optional<internal::FinlessMesh> finless = internal::drop_fins(mesh, [&] { poll(0.1); });
-  if (!finless || !orient_and_unite(finless->mesh, poll, out)) return false;
+  if (!finless || !orient_and_unite(finless->mesh, alpha, poll, out)) return false;
   out.report.fin_faces = finless->dropped_faces;
   return true;
 }
@@ -387,7 +400,8 @@ bool close_small_holes(const Mesh& mesh, double largest_hole, ThrottledProgress&
   poll(0.1);
   if (!filled) return false;
   Mesh oriented = filled->mesh;  // orient_and_unite orients it in place
-  if (!orient_and_unite(oriented, poll, out)) wrap(filled->mesh, kFilledWrapAlpha, poll, out);
+  if (!orient_and_unite(oriented, kFilledWrapAlpha, poll, out))
+    wrap(filled->mesh, kFilledWrapAlpha, poll, out);
   out.report.filled_holes = filled->holes;
   return true;
 }
@@ -405,16 +419,16 @@ void make_working_mesh(Mesh clean, bool closed, double largest_hole, const Prepa
                      "; use repair='auto' to wrap it into a closed proxy");
   }
   const MeshReport& r = out.report;
+  double alpha = std::clamp(0.6 * largest_hole, 0.01, 0.1);  // of the wrap if all else fails
+  if (r.border_edges == 0) alpha = 0.01;
   if (r.border_edges == 0 && r.non_manifold_edges == 0 && r.orientable) {
     // Only several parts or pinched vertices: the union of the parts when each is a closed solid.
-    if (unite_closed_parts(clean, poll, out)) return;
+    if (unite_closed_parts(clean, alpha, poll, out)) return;
   }
-  if (r.non_manifold_edges > 0 && unite_without_fins(clean, poll, out)) return;
+  if (r.non_manifold_edges > 0 && unite_without_fins(clean, alpha, poll, out)) return;
   if (r.border_edges > 0 && r.non_manifold_edges == 0 &&
       close_small_holes(clean, largest_hole, poll, out))
     return;
-  double alpha = std::clamp(0.6 * largest_hole, 0.01, 0.1);
-  if (r.border_edges == 0) alpha = 0.01;
   wrap(clean, alpha, poll, out);
 }
 

@@ -509,6 +509,47 @@ TEST(Repair, ClosedPartsAreUnitedNotWrapped) {
       << "the nested sphere's centre is inside the union";
 }
 
+// Four overlapping closed parts, one of which crosses itself (a vertex pushed through to the far
+// side, as a noise does where faces nearly touch): only that part is wrapped, then all are
+// united, and the others keep their own surface (they were all wrapped, every detail smoothed).
+// With two of the four crossing, the whole is wrapped (union.cpp, kMostRewrapped).
+TEST(Repair, APartThatCrossesItselfIsWrappedAloneThenUnited) {
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  Mesh crossing = test::icosphere(2);
+  Eigen::Index top = 0;
+  crossing.V.col(2).maxCoeff(&top);
+  crossing.V.row(top) << 0, 0, -1.4;  // through the centre and out under the bottom
+  const Mesh other = test::transformed(test::icosphere(3), I, 0.8, {1.3, 0, 0});
+  const Mesh small = test::transformed(test::icosphere(2), I, 0.3, {1.3, 0.8, 0});
+  const Mesh first = test::merged(crossing, other);
+  const Mesh parts = test::merged(
+      first, test::merged(small, test::transformed(test::icosphere(2), I, 0.3, {1.3, -0.8, 0})));
+  const Mesh twice =
+      test::merged(first, test::merged(small, test::transformed(crossing, I, 0.3, {1.3, -0.8, 0})));
+  EXPECT_GT(dcg::prepare_mesh(twice.V, twice.F, keep_input()).wrap_alpha, 0);
+  const dcg::PreparedMesh pm = dcg::prepare_mesh(parts.V, parts.F, keep_input());
+  EXPECT_TRUE(pm.repaired);
+  EXPECT_EQ(pm.wrap_alpha, 0) << "united, not wrapped whole";
+  EXPECT_EQ(pm.report.wrapped_parts, 1);
+  EXPECT_DOUBLE_EQ(pm.report.part_wrap_alpha, 0.01);
+  EXPECT_TRUE(test::is_closed_oriented_manifold(pm.working));
+  EXPECT_EQ(test::component_count(pm.working), 1);
+  // The far side of the other part is its own surface: its vertices there, exactly.
+  int kept = 0, far = 0;
+  for (Eigen::Index v = 0; v < other.V.rows(); ++v) {
+    if (other.V(v, 0) < 1.6) continue;
+    ++far;
+    const Eigen::RowVector3d p = (other.V.row(v) - pm.offset) / pm.scale;
+    for (Eigen::Index w = 0; w < pm.working.V.rows(); ++w)
+      if ((pm.working.V.row(w) - p).norm() < 1e-12) {
+        ++kept;
+        break;
+      }
+  }
+  EXPECT_GT(far, 50);
+  EXPECT_EQ(kept, far);
+}
+
 // Two spheres that share one vertex (a pinched, non-manifold vertex): the vertex is split into
 // one copy per fan, and the two spheres stay as they are (touching at that point), not wrapped.
 TEST(Repair, PinchedVertexIsSplitNotWrapped) {
@@ -727,12 +768,14 @@ TEST_P(OpenMeshFile, RepairAutoClosesItAndRepairNoneNamesTheProblem) {
   if (GetParam() == "wolf-open.obj") {
     EXPECT_TRUE(contains(message, "128 border edges")) << message;
     EXPECT_TRUE(contains(message, "3 components")) << message;
-    // Its 4 holes are small (the largest 7% of the diagonal) and filled, its parts cross (no
-    // union): the filled mesh is wrapped at 2% of the diagonal, not at 0.6 x the largest hole
-    // (4.3%), whose wrap webbed the legs together (4 ends of 6, 77% of the skeleton inside).
+    // Its 4 holes are small (the largest 7% of the diagonal) and filled, its parts cross
+    // themselves (all 3, too many to wrap one by one: no union): the filled mesh is wrapped at 2%
+    // of the diagonal, not at 0.6 x the largest hole (4.3%), whose wrap webbed the legs together
+    // (4 ends of 6, 77% of the skeleton inside).
     const dcg::PreparedMesh kept = dcg::prepare_mesh(m.V, m.F, dcg::PrepareOptions());
     EXPECT_EQ(kept.report.filled_holes, 4);
     EXPECT_DOUBLE_EQ(kept.wrap_alpha, 0.02);
+    EXPECT_EQ(kept.report.wrapped_parts, 0);
     EXPECT_TRUE(test::is_closed_oriented_manifold(kept.working));
   }
   dcg::PrepareOptions up;  // the proxy remeshed up to target_faces

@@ -43,18 +43,20 @@ def test_same_skeleton_in_separate_processes(repo):
 
 
 
-@pytest.mark.parametrize("draw", [1, 3, 12])
-def test_a_tiny_noise_leaves_mannequinys_skeleton_whole(meshes_dir, draw):
+@pytest.mark.parametrize("amplitude, draw", [(1e-5, 1), (1e-5, 3), (1e-5, 12), (1e-4, 4)])
+def test_a_tiny_noise_leaves_mannequinys_skeleton_whole(meshes_dir, amplitude, draw):
     # Mannequiny with 1e-5 of its diagonal of noise on its vertices, as a re-export might leave
     # it. Each of these draws broke its skeleton: 1, a stray node in a void its ankle and foot
     # enclose (stage 0 fills such voids now) and a loop at a knee; 3, a hand's fingers lost (a
     # finger measured with its neighbour, sibling_levels); 12, a loop around the tiny tunnel
-    # where its knee parts barely meet (a crack, not a handle, keep_handle_cycles).
+    # where its knee parts barely meet (a crack, not a handle, keep_handle_cycles). With 1e-4,
+    # draw 4 made its head (one of its 59 parts) cross itself, and all the parts went to the
+    # wrap, which smoothed all 8 fingers away: now only the head is wrapped (union.h).
     from dcg import bones
 
     V, F = dcg.load_mesh(meshes_dir / "rigged" / "Mannequiny.obj")
     diagonal = np.linalg.norm(np.ptp(V, axis=0))
-    V = V + np.random.default_rng(draw).normal(size=V.shape) * 1e-5 * diagonal
+    V = V + np.random.default_rng(draw).normal(size=V.shape) * amplitude * diagonal
     skeleton = dcg.extract_skeleton(V, F)
     n, links = skeleton.node_count, skeleton.links
     parent = list(range(n))
@@ -106,6 +108,23 @@ def test_a_tiny_noise_leaves_mirror_image_limbs_paired(meshes_dir, name, draw):
     assert bones.unpaired_limbs(skeleton, np.array([0.0, 0.0, 1.0])) == 0
     plan = bones.plan_bones(skeleton)
     assert sum(spec.name.endswith(".L") for spec in plan) >= 8  # 2 pairs of limbs, 4 bones+
+
+
+def test_a_part_that_crosses_itself_is_wrapped_alone(meshes_dir):
+    # Mannequiny's head crosses itself under draw 4 of 1e-4 of the diagonal of noise (above):
+    # the head alone is wrapped, the other 58 parts keep their own surface, and the user is told.
+    V, F = dcg.load_mesh(meshes_dir / "rigged" / "Mannequiny.obj")
+    diagonal = np.linalg.norm(np.ptp(V, axis=0))
+    V = V + np.random.default_rng(4).normal(size=V.shape) * 1e-4 * diagonal
+    working = dcg.Extractor(V, F).prepare()
+    assert working.repaired and working.wrap_alpha == 0  # united, not wrapped whole
+    assert working.report["wrapped_parts"] == 1
+    assert working.report["part_wrap_alpha"] == pytest.approx(0.02)
+    assert len(working.faces) > 20000  # the whole wrap had 3,044 faces
+    assert "1 part that crossed itself replaced by its alpha wrap (details below 2.0% of" \
+        in dcg.repair_summary(working)
+    unperturbed = dcg.Extractor(*dcg.load_mesh(meshes_dir / "rigged" / "Mannequiny.obj"))
+    assert unperturbed.prepare().report["wrapped_parts"] == 0
 
 
 def test_union_of_parts_is_the_same_in_every_call(meshes_dir):

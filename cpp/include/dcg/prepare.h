@@ -69,6 +69,10 @@ struct MeshReport {
   /// Voids enclosed by the parts once united (not by any one part), filled: their inner shells
   /// are left out of the working mesh.
   int cavities = 0;
+  /// Parts that crossed themselves where they were to be united with others, each replaced by
+  /// its alpha wrap (at part_wrap_alpha, normalized; 0 when none) before the union.
+  int wrapped_parts = 0;
+  double part_wrap_alpha = 0;
   bool closed_manifold() const {
     return border_edges == 0 && non_manifold_edges == 0 && non_manifold_vertices == 0 && orientable;
   }
