@@ -118,7 +118,9 @@ struct Prongs {
 /// distance of the base's vertices to their centre), and at least kFingerCount such peaks that
 /// end in one prong's region stand within kFingerSpread lengths of each other; then also the
 /// peaks beside them (within kFingerSpread lengths) at least kThumbAspect times as long as
-/// wide (a thumb, shorter).
+/// wide (a thumb, shorter); then also the peaks that mirror one of those on the other hand
+/// (f within kTwinValue, the plane halfway between the two a mirror plane of the whole mesh, as
+/// for mirror twins), whatever their shape, since a noise moves a thumb's valley.
 ///
 /// Midline: a head's highest point is often one of a pair, a horn or an ear (spot, cow.off,
 /// armadillo.obj, Q_Goblin), whose twin stays below tau; the head's end then sits on one side of a
