@@ -31,15 +31,17 @@
 //   under its warts) lose those sheets and are united the same way. A part to be united that
 //   crosses itself (where its faces nearly touch, a tiny noise or a float32 rounding makes them
 //   cross) is replaced by its own alpha wrap first, at the size the whole would be wrapped at
-//   (report.wrapped_parts). Anything else (an open part, other non-manifold edges, a union that
-//   fails) is wrapped whole, which gives the same kind of result (the union, disjoint parts as
-//   shells) with every part's details smoothed. Before that, a mesh whose holes are all small
-//   (bounding box at most 1/10 of the diagonal, at most 256 edges: an eye socket, a neck
-//   opening, a cut at a scan's base) gets them triangulated and is united the same way: a wrap
-//   sized to such a hole smoothed over 4-7% of the diagonal (Mannequiny), fingers and thin limbs
-//   with it. Its parts that cross themselves (Q_Male_Casual's body, wolf-open's 3 parts) are
-//   wrapped at kFilledWrapAlpha; when the union fails, the filled mesh is wrapped whole, at
-//   kFilledWrapAlpha: its holes are closed, so the wrap need not be sized to them.
+//   (report.wrapped_parts), while at most a quarter of the parts cross. Anything else (an open
+//   part, other non-manifold edges, a union that fails) is wrapped whole, which gives the same kind
+//   of result (the union, disjoint parts as shells) with every part's details smoothed. Before
+//   that, a mesh whose holes are all small (bounding box at most 1/10 of the diagonal, at most 256
+//   edges: an eye socket, a neck opening, a cut at a scan's base) gets them triangulated and is
+//   united the same way: a wrap sized to such a hole smoothed over 4-7% of the diagonal
+//   (Mannequiny), fingers and thin limbs with it. A part that crosses itself is wrapped at
+//   kFilledWrapAlpha (Q_Male_Casual's body, 1 of its 7 parts); when the union fails (wolf-open: all
+//   3 of its parts cross themselves, too many to wrap one by one, union.cpp), the filled mesh is
+//   wrapped whole, at kFilledWrapAlpha: its holes are closed, so the wrap need not be sized to
+//   them.
 // - Wrap size: alpha = 1/100 of the diagonal (keeps fingers and thin limbs apart), raised to
 //   0.6 x the diagonal of the largest hole (border loop) so the wrapping ball cannot enter the
 //   hole and wrap both sides of an open sheet (a hollow shell has a useless medial axis), capped

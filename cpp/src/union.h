@@ -29,15 +29,15 @@ using PartWrap = std::function<Mesh(const Mesh& part)>;
 /// each connected component (after splitting pinched vertices into one vertex per fan) must be
 /// a closed, orientable 2-manifold that encloses a volume, and one that is to be united with
 /// another must not intersect itself (with `rewrap`, such a part is replaced by rewrap(part)
-/// instead: a noise of 1e-4 of the diagonal made Mannequiny's head cross itself, and without
-/// it all 59 parts went to the wrap, which smoothed the fingers away). Parts whose bounding
-/// boxes overlap are united with CGAL's corefinement (exact predicates; again with exact
-/// constructions when that union crosses itself, comes out open or throws); the others are
-/// kept as they are, face for face. Parts may touch themselves or each other at a point (a split
-/// pinched vertex), never cross. std::nullopt when any part is open, one to be united
-/// self-intersecting (without `rewrap`; with it, when its replacement is no closed solid), or
-/// when a union fails or comes out open or self-intersecting (parts that
-/// touch along an edge): the caller wraps instead.
+/// instead, while at most a quarter of those parts cross: a noise of 1e-4 of the diagonal made
+/// Mannequiny's head cross itself, and without it all 59 parts went to the wrap, which smoothed
+/// the fingers away). Parts whose bounding boxes overlap are united with CGAL's corefinement
+/// (exact predicates; again with exact constructions when that union crosses itself, comes out
+/// open or throws); the others are kept as they are, face for face. Parts may touch themselves
+/// or each other at a point (a split pinched vertex), never cross. std::nullopt when any part
+/// is open, one to be united self-intersecting (without `rewrap`; with it, when more than a
+/// quarter are or a replacement is no closed solid), or when a union fails or comes out open
+/// or self-intersecting (parts that touch along an edge): the caller wraps instead.
 ///   mesh  #V by 3 vertices, #F by 3 faces, every edge in exactly two faces, consistently
 ///         oriented (each part is turned outward here)
 /// `poll` (if set) is called between the steps and the unions; it may throw (Cancelled).
