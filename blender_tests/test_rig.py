@@ -203,6 +203,23 @@ def test_rig_and_preview_say_how_they_repaired_the_mesh(capfd):
     assert "the mesh has" not in _printed(capfd), "a closed mesh is used as it is"
 
 
+def test_a_part_that_crosses_itself_is_wrapped_and_the_user_warned(capfd):
+    # Four overlapping capsules, the first with its top vertex pushed through its bottom: that
+    # part alone is replaced by its alpha wrap (stage 0, union.cpp) and the others united with
+    # it; the skeleton is of a proxy there, so the report is a warning.
+    V, F = capsule()
+    crossing = V.copy()
+    crossing[np.argmax(V[:, 2])] = [0.0, 0.0, V[:, 2].min() - 0.4]
+    parts = [crossing] + [V + [0.45 * k, 0.0, 0.0] for k in (1, 2, 3)]
+    add_mesh("crossing capsules", np.vstack(parts),
+             np.vstack([F + k * len(V) for k in range(len(parts))]))
+    _printed(capfd)
+    assert bpy.ops.object.dcg_preview() == {"FINISHED"}
+    text = _printed(capfd)
+    assert "1 part that crossed itself replaced by its alpha wrap" in text
+    assert "Warning" in text.split("1 part that crossed itself")[0].splitlines()[-1]
+
+
 def test_rig_needs_an_active_mesh():
     bpy.context.view_layer.objects.active = None
     with pytest.raises(RuntimeError, match="context is incorrect|select a mesh"):
