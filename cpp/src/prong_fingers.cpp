@@ -152,23 +152,21 @@ std::vector<const Peak*> ProngHierarchy::fingers(double tau,
   for (std::size_t a = 0; a < found.size(); ++a)
     finger[a] = thin[a] && members[find(static_cast<int>(a))] >= kFingerCount;
   // A thumb: shorter, beside a finger of the same hand.
-  std::vector<char> kept_peak(found.size(), 0);
+  std::vector<char> by_shape(found.size(), 0);
   for (std::size_t a = 0; a < found.size(); ++a) {
     bool thumb = false;
     for (std::size_t b = 0; b < found.size() && !finger[a] && !thumb; ++b)
       thumb = finger[b] && found[a].aspect >= kThumbAspect && close(found[a], found[b]);
-    kept_peak[a] = finger[a] || thumb;
+    by_shape[a] = finger[a] || thumb;
   }
-  // The mirror image of a finger or thumb of one hand, on the other (see the class comment).
-  const std::vector<char> by_shape = kept_peak;
+  // Those, and the mirror image of one of them on another hand (see the class comment).
   std::vector<const Peak*> out;
   for (std::size_t a = 0; a < found.size(); ++a) {
-    for (std::size_t b = 0; b < found.size() && !kept_peak[a] && found[a].aspect > 0; ++b)
-      kept_peak[a] = by_shape[b] && found[b].hand != found[a].hand &&
-                     std::abs(found[a].peak->value - found[b].peak->value) <=
-                         kTwinValue * found[b].peak->value &&
-                     mirrors_mesh(found[a].peak->vertex, found[b].peak->vertex);
-    if (kept_peak[a]) out.push_back(found[a].peak);
+    bool keep = by_shape[a];
+    for (std::size_t b = 0; b < found.size() && !keep && found[a].aspect > 0; ++b)
+      keep = by_shape[b] && found[b].hand != found[a].hand &&
+             mirror_image(*found[a].peak, *found[b].peak);
+    if (keep) out.push_back(found[a].peak);
   }
   return out;
 }

@@ -34,7 +34,7 @@ int ProngHierarchy::move_to_midline(std::vector<const Peak*>& kept) const {
     int tests = 0;
     for (std::size_t c = 0; c < candidates.size() && !twin && tests < kMidlineTwinTests; ++c) {
       const Peak& q = *candidates[c];
-      if (owner[c] != p->vertex || std::abs(q.value - p->value) > kTwinValue * p->value) continue;
+      if (owner[c] != p->vertex || !as_high(q, *p)) continue;  // mirror tests are counted
       ++tests;
       if (mirrors_mesh(q.vertex, p->vertex)) twin = &q;
     }

@@ -73,8 +73,7 @@ std::vector<const Peak*> ProngHierarchy::tails(const std::vector<const Peak*>& k
     if (known != twin_of.end()) return known->second;
     const Peak* found = nullptr;
     for (const Peak* t : kept)
-      if (t != &p && std::abs(t->value - p.value) <= kTwinValue * p.value &&
-          mirrors_mesh(t->vertex, p.vertex)) {
+      if (t != &p && mirror_image(*t, p)) {
         found = t;
         break;
       }

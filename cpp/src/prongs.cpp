@@ -530,8 +530,16 @@ double ProngHierarchy::off_halfway(int a, int b, int v) const {
   return std::abs((pa - pb).normalized().dot(at - (pa + pb) / 2));
 }
 
+bool ProngHierarchy::as_high(const Peak& q, const Peak& p) const {
+  return std::abs(q.value - p.value) <= kTwinValue * p.value;
+}
+
+bool ProngHierarchy::mirror_image(const Peak& q, const Peak& p) const {
+  return as_high(q, p) && mirrors_mesh(q.vertex, p.vertex);
+}
+
 bool ProngHierarchy::is_mirror_twin(const Peak& twin, const Peak& partner) const {
-  if (std::abs(twin.value - partner.value) > kTwinValue * partner.value) return false;
+  if (!as_high(twin, partner)) return false;  // the geodesics below cost most: tested last but one
   for (int peak : {twin.vertex, partner.vertex}) {  // both limbs, the crotch off the plane
     if (edge_geodesics(mesh_, peak)[twin.valley_vertex] < kTwinLength * f_.mean()) return false;
   }

@@ -244,6 +244,15 @@ bool sound_union(const std::optional<SM>& united, std::size_t count) {
   return united && (count < 2 || (CGAL::is_closed(*united) && !crosses_itself(*united)));
 }
 
+// The soup (points, faces) as a Surface_mesh; nullopt when it is no polygon mesh.
+std::optional<SM> soup_mesh(const std::vector<Point>& points,
+                            const std::vector<std::array<std::size_t, 3>>& faces) {
+  if (!PMP::is_polygon_soup_a_polygon_mesh(faces)) return std::nullopt;
+  SM sm;
+  PMP::polygon_soup_to_polygon_mesh(points, faces, sm);
+  return sm;
+}
+
 // `mesh` as a Surface_mesh (its faces as they are; nullopt when they are no polygon mesh).
 std::optional<SM> surface_mesh(const Mesh& mesh) {
   std::vector<Point> points;
@@ -252,10 +261,7 @@ std::optional<SM> surface_mesh(const Mesh& mesh) {
   std::vector<std::array<std::size_t, 3>> faces(static_cast<std::size_t>(mesh.F.rows()));
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
     for (int k = 0; k < 3; ++k) faces[f][k] = static_cast<std::size_t>(mesh.F(f, k));
-  if (!PMP::is_polygon_soup_a_polygon_mesh(faces)) return std::nullopt;
-  SM sm;
-  PMP::polygon_soup_to_polygon_mesh(points, faces, sm);
-  return sm;
+  return soup_mesh(points, faces);
 }
 
 // The most of the parts to be united that may cross themselves and be wrapped one by one: a few
@@ -300,12 +306,11 @@ std::optional<United> union_of_closed_parts(const Mesh& mesh,
   std::vector<Point> points;
   std::vector<std::array<std::size_t, 3>> faces;
   split_pinched_vertices(mesh, points, faces);
-  if (!PMP::is_polygon_soup_a_polygon_mesh(faces)) return std::nullopt;
-  SM whole;
-  PMP::polygon_soup_to_polygon_mesh(points, faces, whole);
+  std::optional<SM> whole = soup_mesh(points, faces);
+  if (!whole) return std::nullopt;
   poll(0.1);
   std::vector<SM> parts;
-  PMP::split_connected_components(whole, parts);
+  PMP::split_connected_components(*whole, parts);
   if (!all_of_parts(parts, closed_solid)) return std::nullopt;
   poll(0.3);
   std::vector<Mesh> shells;

@@ -180,6 +180,10 @@ class ProngHierarchy {
   bool cap_is_disk(int peak_vertex, double tau) const;
   bool is_mirror_twin(const Peak& twin, const Peak& partner) const;
   bool mirrors_mesh(int a, int b) const;  // the plane halfway between a and b mirrors it
+  // Whether f at peak q is within kTwinValue of f at peak p (p's value the unit).
+  bool as_high(const Peak& q, const Peak& p) const;
+  // Whether q is p's mirror image: as_high, and the plane halfway between them mirrors the mesh.
+  bool mirror_image(const Peak& q, const Peak& p) const;
   // The distance of vertex v from the plane halfway between vertices a and b (a != b).
   double off_halfway(int a, int b, int v) const;
   // The peaks past tau kept as fingers (see the class comment); `kept`: the prongs so far.
